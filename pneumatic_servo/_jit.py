@@ -1,0 +1,27 @@
+"""Optional numba compilation.
+
+The model runs as plain Python when numba is absent or when
+``PNEUMATIC_SERVO_JIT=0``; the same source is compiled when numba is present.
+"""
+import os
+
+try:  # numba is a speed-up, never a requirement
+    import numba as _numba
+except ImportError:  # pragma: no cover - exercised where numba is absent
+    _numba = None
+
+ENABLED = _numba is not None and os.environ.get('PNEUMATIC_SERVO_JIT', '1') != '0'
+
+
+def njit(func=None, **options):
+    """Compile ``func`` with numba in nopython mode when available, else return it."""
+    def wrap(f):
+        if not ENABLED:
+            return f
+        return _numba.njit(fastmath=False, **options)(f)
+    return wrap(func) if func is not None else wrap
+
+
+def prange(*args):
+    """``numba.prange`` when compiling, ``range`` otherwise."""
+    return _numba.prange(*args) if ENABLED else range(*args)

@@ -1,0 +1,120 @@
+"""The component interface: what every physical effect declares and provides.
+
+The balance laws (mass and energy per chamber, moment balance) are fixed in
+``pneumatic_servo.model.core``. A component never rewrites an equation: it
+adds into named totals of the context vector ``c`` (mass and enthalpy flow
+into each chamber, heat into each chamber, torque and inertia on the shaft,
+friction) or modifies a named input (spool position, supply pressure,
+volumes), and may own extra states.
+
+Hook signature (numba-compatible plain function, or ``None``)::
+
+    hook(t, x, s, p, P, c, dx)
+
+t   time [s]; x the state vector; s index of the component's first own
+    state in x; p the component's own parameter values (array, order of
+    ``params``); P the whole parameter vector (core parameters first, see
+    ``layout``); c the context vector (see ``layout``); dx the derivative
+    vector, where a component writes the derivatives of its own states.
+
+Hooks run in stage order: valve, supply, geometry, flows, heat, mechanics,
+finish.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable, ClassVar, Optional
+
+STAGES = ('valve', 'supply', 'geometry', 'flows', 'heat', 'mechanics', 'finish')
+
+
+@dataclass(frozen=True)
+class Param:
+    """A named, bounded physical parameter in SI units.
+
+    ``lower``/``upper`` are hard bounds (a config outside them is rejected and
+    fits are confined to them). ``plausible`` is the narrower range a real
+    rig shows; a fitted value outside it is flagged as implausible. ``fit``
+    says whether diagnosis frees this parameter when the component is tried.
+    """
+
+    name: str
+    unit: str
+    default: float
+    lower: float
+    upper: float
+    description: str
+    fit: bool = True
+    plausible: Optional[tuple[float, float]] = None
+
+    def plausible_range(self) -> tuple[float, float]:
+        return self.plausible if self.plausible is not None else (self.lower, self.upper)
+
+
+@dataclass(frozen=True)
+class State:
+    """An extra state owned by a component, with the absolute tolerance the solver uses."""
+
+    name: str
+    unit: str
+    abs_tol: float
+    description: str
+
+
+class Component:
+    """Base class of every model component (paper parts and catalogue effects).
+
+    Subclasses set the class attributes below and any hooks. Register a
+    subclass with ``pneumatic_servo.effects.register`` (or an entry point in
+    group ``pneumatic_servo.effects``) to make it available by ``name``.
+    """
+
+    name: ClassVar[str] = ''
+    #: 'orifice', 'clearance', 'thermal' or 'friction' for the paper's
+    #: switchable parts (one per slot); None for an additive effect.
+    slot: ClassVar[Optional[str]] = None
+    summary: ClassVar[str] = ''
+    reference: ClassVar[str] = ''
+    params: ClassVar[tuple[Param, ...]] = ()
+    states: ClassVar[tuple[State, ...]] = ()
+    #: Which equation a missing instance of this effect shows up in:
+    #: 'angle' (moment balance), 'pressure' (mass balance) or 'both'.
+    acts_on: ClassVar[str] = 'both'
+    #: Order within a stage (lower runs first), e.g. a null offset before spool dynamics.
+    order: ClassVar[int] = 50
+
+    valve: ClassVar[Optional[Callable]] = None
+    supply: ClassVar[Optional[Callable]] = None
+    geometry: ClassVar[Optional[Callable]] = None
+    flows: ClassVar[Optional[Callable]] = None
+    heat: ClassVar[Optional[Callable]] = None
+    mechanics: ClassVar[Optional[Callable]] = None
+    finish: ClassVar[Optional[Callable]] = None
+
+    @classmethod
+    def defaults(cls) -> dict[str, float]:
+        return {p.name: p.default for p in cls.params}
+
+    @classmethod
+    def initial_state(cls, values: dict[str, float], command_v: float,
+                      supply_pa: float, core: dict[str, float]) -> list[float]:
+        """Initial values of the component's own states, in the order of ``states``."""
+        return [0.0] * len(cls.states)
+
+    @classmethod
+    def input_delay_s(cls, values: dict[str, float]) -> float:
+        """Pure delay [s] this component adds between command and valve."""
+        return 0.0
+
+    @classmethod
+    def output_delay_s(cls, values: dict[str, float]) -> float:
+        """Pure delay [s] this component adds between physical state and measurement."""
+        return 0.0
+
+    @classmethod
+    def validate(cls, values: dict[str, float]) -> None:
+        """Raise ``ConfigError`` if the values are inconsistent with each other."""
+
+    @classmethod
+    def hook(cls, stage: str) -> Optional[Callable]:
+        return getattr(cls, stage)

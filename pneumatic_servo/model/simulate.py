@@ -1,0 +1,212 @@
+"""Simulation: the accurate offline run over a recorded or designed input, and the
+fixed-step real-time stepper the plant node calls once per control period.
+
+Inputs are sampled signals held constant between samples (zero-order hold),
+as a DAQ outputs them. Units: s, V, Pa absolute, rad, K.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..effects.layout import (CIRCUITS, CORE_STATE_NAMES, OMEGA, OUTPUT_NAMES, P_A, P_B, T_A,
+                              T_B, THETA)
+from ..errors import SimulationError
+from .assembly import Model
+from .config import ModelConfig
+
+#: default relative tolerance of the offline integrator (see benchmarks/ for its accuracy)
+DEFAULT_RTOL = 1e-7
+_STATUS = {1: 'a state became non-finite', 2: 'the step size collapsed'}
+
+
+@dataclass
+class SimResult:
+    """Sampled trajectory: ``states`` (n, n_states) and context ``outputs`` at ``t``."""
+
+    t: np.ndarray
+    states: np.ndarray
+    state_names: list[str]
+    outputs: np.ndarray
+    circuit: str = 'servo'
+    inputs: dict = field(default_factory=dict)
+
+    def __getitem__(self, name: str) -> np.ndarray:
+        if name in self.state_names:
+            return self.states[:, self.state_names.index(name)]
+        if name in OUTPUT_NAMES:
+            return self.outputs[:, OUTPUT_NAMES.index(name)]
+        if name in self.inputs:
+            return self.inputs[name]
+        raise KeyError(name)
+
+    angle_rad = property(lambda self: self.states[:, THETA])
+    velocity_rad_s = property(lambda self: self.states[:, OMEGA])
+    p_a_pa = property(lambda self: self.states[:, P_A])
+    p_b_pa = property(lambda self: self.states[:, P_B])
+    t_a_k = property(lambda self: self.states[:, T_A])
+    t_b_k = property(lambda self: self.states[:, T_B])
+
+
+def as_model(model) -> Model:
+    """Accept a Model, a ModelConfig or None (the paper's model)."""
+    if isinstance(model, Model):
+        return model
+    return Model(model if model is not None else ModelConfig.paper())
+
+
+def initial_state(model: Model, angle_rad: float = None, p_a_pa: float = None,
+                  p_b_pa: float = None, t_a_k: float = None, t_b_k: float = None,
+                  velocity_rad_s: float = 0.0, command_v: float = 5.0,
+                  supply_pa: float = None, config: ModelConfig = None) -> np.ndarray:
+    """Full state vector; unspecified values default to mid-stroke, mid pressure, room T."""
+    cfg = config or model.config
+    core = cfg.core
+    ps = core['supply_pressure_pa'] if supply_pa is None else supply_pa
+    mid = 0.5 * (ps + core['atmospheric_pressure_pa'])
+    x = [0.5 * core['stroke_rad'] if angle_rad is None else angle_rad, velocity_rad_s,
+         mid if p_a_pa is None else p_a_pa, mid if p_b_pa is None else p_b_pa,
+         core['room_temperature_k'] if t_a_k is None else t_a_k,
+         core['room_temperature_k'] if t_b_k is None else t_b_k]
+    for comp in model.layout.classes:
+        x += list(comp.initial_state(cfg.values_of(comp.name), command_v, ps, core))
+    return np.array(x, dtype=float)
+
+
+def _delayed(t: np.ndarray, values: np.ndarray, delay: float) -> np.ndarray:
+    """``values`` (n,) or (n, k) seen ``delay`` [s] later, linearly interpolated; held at start."""
+    if delay <= 0.0:
+        return values
+    tq = t - delay
+    if values.ndim == 1:
+        return np.interp(tq, t, values)
+    return np.column_stack([np.interp(tq, t, values[:, j]) for j in range(values.shape[1])])
+
+
+def _check_inputs(t, command_v, supply_pa):
+    t = np.asarray(t, dtype=float)
+    u = np.broadcast_to(np.asarray(command_v, dtype=float), t.shape).copy()
+    ps = np.broadcast_to(np.asarray(supply_pa, dtype=float), t.shape).copy()
+    if t.ndim != 1 or len(t) < 2:
+        raise SimulationError('time vector must be 1-D with at least two samples')
+    if not np.all(np.diff(t) > 0):
+        raise SimulationError('sample times must increase strictly')
+    for name, arr in (('time', t), ('valve command', u), ('supply pressure', ps)):
+        if not np.all(np.isfinite(arr)):
+            raise SimulationError(f'{name} contains NaN or inf; clean the input first')
+    if np.any(ps <= 0):
+        raise SimulationError('supply pressure must be absolute and positive [Pa]')
+    return t, u, ps
+
+
+def simulate(model=None, t=None, command_v=5.0, supply_pa=None, x0=None,
+             circuit: str = 'servo', method: str = 'adaptive', rtol: float = DEFAULT_RTOL,
+             atol_scale: float = 1.0, substeps: int = 10, config: ModelConfig = None
+             ) -> SimResult:
+    """Simulate ``model`` at sample times ``t`` [s] with ZOH valve ``command_v`` [V]
+    and supply ``supply_pa`` [Pa abs] (scalars or arrays like ``t``).
+
+    ``method`` is 'adaptive' (Dormand-Prince 5(4), ``rtol`` and per-state
+    absolute tolerances times ``atol_scale``) or 'fixed' (RK4, ``substeps``
+    per sample interval, as the real-time stepper). ``config`` overrides the
+    parameter values (same components) without recompiling.
+    """
+    model = as_model(model)
+    cfg = config or model.config
+    if circuit not in CIRCUITS:
+        raise SimulationError(f'unknown circuit {circuit!r}; use one of {", ".join(CIRCUITS)}')
+    if supply_pa is None:
+        supply_pa = cfg.core['supply_pressure_pa']
+    t, u, ps = _check_inputs(t, command_v, supply_pa)
+    d_in, d_out = model.delays(cfg)
+    u_valve = _delayed(t, u, d_in)
+    if x0 is None:
+        x0 = initial_state(model, command_v=u_valve[0], supply_pa=ps[0], config=cfg)
+    x0 = np.asarray(x0, dtype=float)
+    if x0.shape != (model.n_states,):
+        raise SimulationError(f'initial state needs {model.n_states} values '
+                              f'({", ".join(model.state_names)})')
+    P = model.param_vector(cfg)
+    X = np.empty((len(t), model.n_states))
+    Y = np.empty((len(t), len(OUTPUT_NAMES)))
+    status, k = model.kernels['run'](x0, t, u_valve, ps, P, CIRCUITS[circuit],
+                                     method == 'adaptive', rtol, model.abs_tol * atol_scale,
+                                     int(substeps), X, Y)
+    if status != 0:
+        raise SimulationError(f'simulation failed at t = {t[k]:.6g} s: {_STATUS[status]}')
+    return SimResult(t, _delayed(t, X, d_out), model.state_names, Y, circuit,
+                     {'command_v': u, 'supply_pa': ps})
+
+
+def simulate_batch(model: Model, t, command_v, supply_pa, x0s, param_matrix,
+                   circuit='servo', method='adaptive', rtol=DEFAULT_RTOL, substeps=10):
+    """Simulate one trajectory per row of ``param_matrix`` in parallel (no delays applied).
+
+    ``command_v``/``supply_pa`` are (n,) shared or (m, n) per row; ``x0s`` is
+    (m, n_states). Returns states (m, n, n_states) and a status per row (0 = ok).
+    """
+    t = np.asarray(t, dtype=float)
+    pm = np.ascontiguousarray(param_matrix, dtype=float)
+    m = pm.shape[0]
+    U = np.ascontiguousarray(np.broadcast_to(command_v, (m, len(t))), dtype=float)
+    PS = np.ascontiguousarray(np.broadcast_to(supply_pa, (m, len(t))), dtype=float)
+    X0 = np.ascontiguousarray(np.broadcast_to(x0s, (m, model.n_states)), dtype=float)
+    XB = np.empty((m, len(t), model.n_states))
+    YB = np.empty((m, len(t), len(OUTPUT_NAMES)))
+    status = np.zeros(m, dtype=np.int64)
+    model.kernels['run_batch'](X0, t, U, PS, pm, CIRCUITS[circuit], method == 'adaptive',
+                               rtol, model.abs_tol, int(substeps), XB, YB, status)
+    return XB, YB, status
+
+
+class Stepper:
+    """Fixed-step real-time plant: one :meth:`step` call per control period.
+
+    Each call advances the model by ``period_s`` with ``substeps`` RK4
+    substeps, at constant cost. Command and measurement delays of the
+    components are applied with ring buffers.
+    """
+
+    def __init__(self, model=None, period_s: float = 1e-3, substeps: int = 10,
+                 x0=None, circuit: str = 'servo', command_v: float = 5.0,
+                 supply_pa: float = None):
+        self.model = as_model(model)
+        if not (period_s > 0 and substeps >= 1):
+            raise SimulationError('period_s must be > 0 and substeps >= 1')
+        self.period_s, self.substeps = float(period_s), int(substeps)
+        self.circuit = CIRCUITS[circuit]
+        self.params = self.model.params
+        cfg = self.model.config
+        self.supply_pa = cfg.core['supply_pressure_pa'] if supply_pa is None else supply_pa
+        self.x = (initial_state(self.model, command_v=command_v, supply_pa=self.supply_pa)
+                  if x0 is None else np.array(x0, dtype=float))
+        self.t = 0.0
+        self._c = np.zeros(64)
+        self._w = np.zeros((9, self.model.n_states))
+        d_in, d_out = self.model.delays()
+        self._in_lag = int(round(d_in / self.period_s))
+        self._out_lag = int(round(d_out / self.period_s))
+        self._cmd = [float(command_v)] * (self._in_lag + 1)
+        self._hist = [self.x.copy() for _ in range(self._out_lag + 1)]
+
+    def step(self, command_v: float, supply_pa: float = None) -> np.ndarray:
+        """Advance one period with ``command_v`` [V]; returns the measured state."""
+        if supply_pa is not None:
+            self.supply_pa = supply_pa
+        self._cmd.append(float(command_v))
+        u = self._cmd.pop(0)
+        status = self.model.kernels['fixed_interval'](
+            self.t, self.x, u, self.supply_pa, self.params, self.circuit, self.period_s,
+            self.substeps, self._c, self._w)
+        if status != 0:
+            raise SimulationError(f'stepper failed at t = {self.t:.6g} s: {_STATUS[status]}')
+        self.t += self.period_s
+        self._hist.append(self.x.copy())
+        self._hist.pop(0)
+        return self._hist[0]
+
+    @property
+    def measured(self) -> dict[str, float]:
+        x = self._hist[0]
+        return dict(zip(CORE_STATE_NAMES, x[:len(CORE_STATE_NAMES)]))

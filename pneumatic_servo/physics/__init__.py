@@ -1,0 +1,1 @@
+"""Pure physics functions in SI units: no state, no ROS, numba-compatible."""

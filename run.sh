@@ -1,0 +1,23 @@
+#!/usr/bin/env bash
+# Set-up and entry points. On a fresh machine with Python 3.11:
+#   ./run.sh demo   creates .venv, installs the package, runs the main job into out/
+#   ./run.sh test   creates .venv if needed, runs the test suite
+#   ./run.sh bench  runs the benchmarks in benchmarks/ and prints their figures
+set -euo pipefail
+cd "$(dirname "$0")"
+venv=${PNEUMATIC_SERVO_VENV:-.venv}
+stamp="$venv/.installed"
+if [ ! -f "$stamp" ] || [ setup.py -nt "$stamp" ]; then
+  python3 -m venv "$venv"
+  "$venv/bin/pip" install --quiet --disable-pip-version-check -e '.[ros,fast,test]'
+  touch "$stamp"
+fi
+export ROS_AUTOMATIC_DISCOVERY_RANGE=${ROS_AUTOMATIC_DISCOVERY_RANGE:-LOCALHOST}
+verb=${1:-demo}
+shift || true
+case "$verb" in
+  demo)  exec "$venv/bin/pneumatic-servo" demo --out out "$@" ;;
+  test)  exec "$venv/bin/python" -m pytest -q tests "$@" ;;
+  bench) for b in benchmarks/bench_*.py; do echo "== $b"; "$venv/bin/python" "$b" "$@"; done ;;
+  *)     exec "$venv/bin/pneumatic-servo" "$verb" "$@" ;;
+esac
