@@ -22,6 +22,5 @@ def njit(func=None, **options):
     return wrap(func) if func is not None else wrap
 
 
-def prange(*args):
-    """``numba.prange`` when compiling, ``range`` otherwise."""
-    return _numba.prange(*args) if ENABLED else range(*args)
+#: ``numba.prange`` when compiling (parallel loops), ``range`` otherwise
+prange = _numba.prange if ENABLED else range

@@ -1,0 +1,1 @@
+"""Identification: predicting experiments with the model and fitting parameters to them."""
