@@ -33,6 +33,8 @@ _E1, _E3, _E4, _E5, _E6, _E7 = (71 / 57600, -71 / 16695, 71 / 1920, -17253 / 339
                                 22 / 525, -1 / 40)
 
 OK, NON_FINITE, STEP_UNDERFLOW = 0, 1, 2
+STOP_TOL = 1e-7  # [rad] how far a step may carry the shaft past an end stop
+MAX_STEPS_OFFLINE = 1_000_000  # per sample interval
 
 
 @njit(cache=True)
@@ -82,8 +84,13 @@ def make_integrators(rhs, n_state):
         return OK
 
     @njit
-    def adaptive_interval(t, x, u, ps, P, circuit, h, dt, rtol, atol, c, w):
-        """Advance ``x`` in place over [t, t+h]; returns (status, next step guess)."""
+    def adaptive_interval(t, x, u, ps, P, circuit, h, dt, rtol, atol, c, w, max_steps):
+        """Advance ``x`` in place over [t, t+h]; returns (status, next step guess).
+
+        A step that would carry the shaft through an end stop is shortened
+        (secant on the step size) until it lands within ``STOP_TOL`` of
+        the stop, so the impact happens at the right time.
+        """
         k1, k2, k3, k4, k5, k6, k7, xt, xn = w[0], w[1], w[2], w[3], w[4], w[5], w[6], w[7], w[8]
         t_end = t + h
         rhs(t, x, u, ps, P, circuit, c, k1)
@@ -120,6 +127,17 @@ def make_integrators(rhs, n_state):
             err = math.sqrt(err / n_state)
             if not math.isfinite(err):
                 err = 1e10
+            if err <= 1.0 and circuit == SERVO and hs > 1e-9:
+                bound = -1.0
+                if x[THETA] > 0.0 and xn[THETA] < -STOP_TOL:
+                    bound = 0.0
+                elif x[THETA] < P[K_STROKE] and xn[THETA] > P[K_STROKE] + STOP_TOL:
+                    bound = P[K_STROKE]
+                if bound >= 0.0:
+                    frac = (x[THETA] - bound) / (x[THETA] - xn[THETA])
+                    dt = hs * min(max(frac, 0.05), 0.95)
+                    n_steps += 1
+                    continue
             if err <= 1.0:
                 t = t_end if last else t + hs
                 for i in range(n_state):
@@ -131,7 +149,7 @@ def make_integrators(rhs, n_state):
             else:
                 dt = hs * max(0.2, 0.9 * err ** -0.25)
             n_steps += 1
-            if dt < 1e-12 or n_steps > 1_000_000:
+            if dt < 1e-12 or n_steps > max_steps:
                 return STEP_UNDERFLOW, dt
         for i in range(n_state):
             if not math.isfinite(x[i]):
@@ -159,7 +177,7 @@ def make_integrators(rhs, n_state):
             h = t[k + 1] - t[k]
             if adaptive:
                 status, dt = adaptive_interval(t[k], x, u[k], ps[k], P, circuit, h, dt, rtol,
-                                               atol, c, w)
+                                               atol, c, w, MAX_STEPS_OFFLINE)
                 dt = min(dt, 1.0)
             else:
                 status = fixed_interval(t[k], x, u[k], ps[k], P, circuit, h, n_sub, c, w)

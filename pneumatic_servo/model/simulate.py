@@ -10,7 +10,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..effects.layout import (CIRCUITS, CORE_STATE_NAMES, OMEGA, OUTPUT_NAMES, P_A, P_B, T_A,
+from ..effects.layout import (CIRCUITS, CORE_STATE_NAMES, N_CONTEXT, OMEGA, OUTPUT_NAMES, P_A, P_B, T_A,
                               T_B, THETA)
 from ..errors import SimulationError
 from .assembly import Model
@@ -161,19 +161,28 @@ def simulate_batch(model: Model, t, command_v, supply_pa, x0s, param_matrix,
 
 
 class Stepper:
-    """Fixed-step real-time plant: one :meth:`step` call per control period.
+    """Real-time plant: one :meth:`step` call advances one fixed control period.
 
-    Each call advances the model by ``period_s`` with ``substeps`` RK4
-    substeps, at constant cost. Command and measurement delays of the
-    components are applied with ring buffers.
+    ``method='fixed'``: ``substeps`` classical RK4 substeps per period, at
+    constant cost. ``method='adaptive'``: Dormand-Prince 5(4) substeps with
+    error control (``rtol``), capped at ``max_substeps`` per period so the
+    worst-case cost is bounded; more accurate and usually cheaper (see
+    benchmarks/bench_model.py). Command and measurement delays of the
+    components are applied with ring buffers of whole periods.
     """
 
     def __init__(self, model=None, period_s: float = 1e-3, substeps: int = 10,
                  x0=None, circuit: str = 'servo', command_v: float = 5.0,
-                 supply_pa: float = None):
+                 supply_pa: float = None, method: str = 'adaptive',
+                 rtol: float = DEFAULT_RTOL, max_substeps: int = 200):
         self.model = as_model(model)
-        if not (period_s > 0 and substeps >= 1):
-            raise SimulationError('period_s must be > 0 and substeps >= 1')
+        if not (period_s > 0 and substeps >= 1 and max_substeps >= 1):
+            raise SimulationError('period_s must be > 0, substeps and max_substeps >= 1')
+        if method not in ('fixed', 'adaptive'):
+            raise SimulationError(f"unknown stepper method {method!r}; use 'fixed' or 'adaptive'")
+        self.method, self.rtol, self.max_substeps = method, float(rtol), int(max_substeps)
+        self._dt = period_s / 4
+        self._atol = self.model.abs_tol
         self.period_s, self.substeps = float(period_s), int(substeps)
         self.circuit = CIRCUITS[circuit]
         self.params = self.model.params
@@ -182,12 +191,12 @@ class Stepper:
         self.x = (initial_state(self.model, command_v=command_v, supply_pa=self.supply_pa)
                   if x0 is None else np.array(x0, dtype=float))
         self.t = 0.0
-        self._c = np.zeros(64)
+        self._c = np.zeros(N_CONTEXT)
         self._w = np.zeros((9, self.model.n_states))
         d_in, d_out = self.model.delays()
         self._in_lag = int(round(d_in / self.period_s))
         self._out_lag = int(round(d_out / self.period_s))
-        self._cmd = [float(command_v)] * (self._in_lag + 1)
+        self._cmd = [float(command_v)] * self._in_lag
         self._hist = [self.x.copy() for _ in range(self._out_lag + 1)]
 
     def step(self, command_v: float, supply_pa: float = None) -> np.ndarray:
@@ -196,9 +205,16 @@ class Stepper:
             self.supply_pa = supply_pa
         self._cmd.append(float(command_v))
         u = self._cmd.pop(0)
-        status = self.model.kernels['fixed_interval'](
-            self.t, self.x, u, self.supply_pa, self.params, self.circuit, self.period_s,
-            self.substeps, self._c, self._w)
+        k = self.model.kernels
+        if self.method == 'fixed':
+            status = k['fixed_interval'](self.t, self.x, u, self.supply_pa, self.params,
+                                         self.circuit, self.period_s, self.substeps, self._c,
+                                         self._w)
+        else:
+            status, self._dt = k['adaptive_interval'](
+                self.t, self.x, u, self.supply_pa, self.params, self.circuit, self.period_s,
+                min(self._dt, self.period_s), self.rtol, self._atol, self._c, self._w,
+                self.max_substeps)
         if status != 0:
             raise SimulationError(f'stepper failed at t = {self.t:.6g} s: {_STATUS[status]}')
         self.t += self.period_s
