@@ -8,9 +8,35 @@ import math
 from .._jit import njit
 from ..physics.gas import orifice_flow
 from .base import Component, Param, State
-from .layout import (BLOCKED, C_CIRCUIT, C_FBRK_NEG, C_FKIN, C_INERTIA, C_KAPPA, C_MSUP, C_PE,
-                     C_PS, C_PS_REG, C_R, C_TE, C_TORQUE, C_TS, C_VA, C_VB, C_XV, K_DF, K_GAIN,
-                     K_HALF_W, K_HOLE_R, OMEGA, P_A, P_B, T_A, T_B, add_flow)
+from .layout import (
+    BLOCKED,
+    C_CIRCUIT,
+    C_FBRK_NEG,
+    C_FKIN,
+    C_INERTIA,
+    C_KAPPA,
+    C_MSUP,
+    C_PE,
+    C_PS,
+    C_PS_REG,
+    C_R,
+    C_TE,
+    C_TORQUE,
+    C_TS,
+    C_VA,
+    C_VB,
+    C_XV,
+    K_DF,
+    K_GAIN,
+    K_HALF_W,
+    K_HOLE_R,
+    OMEGA,
+    P_A,
+    P_B,
+    T_A,
+    T_B,
+    add_flow,
+)
 
 _BAND = 0.005  # laminar band next to pressure ratio 1 for the leak orifices
 
@@ -137,9 +163,9 @@ class SupplyPressureDrop(Component):
     summary = 'supply pressure at the valve sags with flow (line/regulator resistance)'
     reference = 'supply line as a restriction plus volume'
     params = (
-        Param('supply_line_area_m2', 'm^2', 3e-6, 1e-8, 1e-3,
-              'effective orifice area of regulator and line', plausible=(5e-7, 1e-4)),
-        Param('supply_line_volume_m3', 'm^3', 2e-5, 1e-7, 1e-2, 'volume of the supply line',
+        Param('supply_line_area_m2', 'm^2', 3e-6, 1e-8, 2e-5,
+              'effective orifice area of regulator and line', plausible=(5e-7, 1e-5)),
+        Param('supply_line_volume_m3', 'm^3', 2e-5, 1e-5, 1e-2, 'volume of the supply line',
               fit=False),
     )
     states = (State('valve_supply_pressure_pa', 'Pa', 5.0, 'supply pressure at the valve'),)
@@ -258,8 +284,8 @@ class AsymmetricFriction(Component):
 # --- volumes and sensing -----------------------------------------------------
 @njit(cache=True)
 def _dead_volume_hook(t, x, s, p, P, c, dx):
-    c[C_VA] += p[0]
-    if c[C_CIRCUIT] <= BLOCKED:
+    if c[C_CIRCUIT] <= BLOCKED:  # the static circuits close the valve ports: no tubing
+        c[C_VA] += p[0]
         c[C_VB] += p[1]
 
 

@@ -4,15 +4,41 @@ Slots: ``orifice`` (orifice_flow), ``clearance`` (clearance_flow or
 no_clearance_flow), ``thermal`` (wall_heat_transfer, adiabatic or
 isothermal), ``friction`` (stribeck_friction or coulomb_viscous_friction).
 """
-from ..errors import ConfigError
 from .._jit import njit
+from ..errors import ConfigError
 from ..physics.friction import coulomb_viscous_force, stribeck_force
 from ..physics.gas import clearance_flow, orifice_flow
 from ..physics.valve import annulus_area, effective_area, flow_coefficient
 from .base import Component, Param
-from .layout import (BLOCKED, C_CIRCUIT, C_FBRK_NEG, C_FBRK_POS, C_FKIN, C_ISOTHERMAL, C_KAPPA,
-                     C_M5, C_MSUP, C_PE, C_PS, C_QA, C_QB, C_R, C_TE, C_TS, C_XV, K_DF, K_DH,
-                     K_DS, K_HALF_W, K_HOLE_R, K_MU, OMEGA, P_A, P_B, T_A, T_B, add_flow)
+from .layout import (
+    C_FBRK_NEG,
+    C_FBRK_POS,
+    C_FKIN,
+    C_ISOTHERMAL,
+    C_KAPPA,
+    C_M5,
+    C_MSUP,
+    C_PE,
+    C_PS,
+    C_QA,
+    C_QB,
+    C_R,
+    C_TE,
+    C_TS,
+    C_XV,
+    K_DF,
+    K_DH,
+    K_DS,
+    K_HALF_W,
+    K_HOLE_R,
+    K_MU,
+    OMEGA,
+    P_A,
+    P_B,
+    T_A,
+    T_B,
+    add_flow,
+)
 
 PAPER = 'Zhang et al., Energies 2019, 12, 2470'
 

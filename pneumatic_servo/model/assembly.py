@@ -12,7 +12,7 @@ import numpy as np
 
 from .._jit import njit
 from ..effects.base import STAGES, Component
-from ..effects.layout import (CORE_PARAMS, CORE_STATE_ABS_TOL, CORE_STATE_NAMES, N_CORE_STATES)
+from ..effects.layout import CORE_PARAMS, CORE_STATE_ABS_TOL, CORE_STATE_NAMES, N_CORE_STATES
 from .config import SLOTS, ModelConfig
 from .core import core_begin, core_end
 from .integrators import make_integrators

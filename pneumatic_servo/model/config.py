@@ -25,7 +25,7 @@ from .. import effects as registry
 from ..effects.base import Component, Param
 from ..effects.layout import CORE_PARAMS
 from ..errors import ConfigError
-from .units import to_si
+from .units import to_si, unit_hint
 
 SLOTS = ('orifice', 'clearance', 'thermal', 'friction')
 
@@ -48,8 +48,7 @@ def _check_values(owner: str, params: tuple[Param, ...], given: dict, atmospheri
         value = to_si(raw, p.unit, f'{owner}.{key}', atmospheric_pa)
         if not math.isfinite(value) or not (p.lower <= value <= p.upper):
             raise ConfigError(f'{owner}.{key} = {value:g} {p.unit} is outside [{p.lower:g}, '
-                              f'{p.upper:g}] {p.unit}; check the units (SI, absolute '
-                              f"pressure) or write e.g. '0.6 MPa gauge'")
+                              f'{p.upper:g}] {p.unit}; {unit_hint(p.unit)}')
         out[key] = value
     return out
 

@@ -14,16 +14,73 @@ and for the shaft (Eq. 37 with Eqs 34-36):
 """
 from .._jit import njit
 from ..effects.layout import (
-    BLOCKED, C_CIRCUIT, C_CP, C_CV, C_DVA, C_DVB, C_FBRK_NEG, C_FBRK_POS, C_FKIN, C_HA, C_HB,
-    C_INERTIA, C_ISOTHERMAL, C_KAPPA, C_M4, C_MA, C_MB, C_PE, C_PS, C_PS_REG, C_QA, C_QB, C_R,
-    C_T, C_TE, C_TORQUE, C_TS, C_U, C_VA, C_VB, C_XV, FLOW, K_AREA, K_BLOCKED, K_DF, K_GAIN,
-    K_HALF_W, K_HOLE_R, K_J, K_KAPPA, K_MP, K_NULL, K_OUTLET, K_PE, K_R, K_STROKE, K_TE, K_TS,
-    K_VDA, K_VDB, K_VVALVE, K_ALPHA, OMEGA, P_A, P_B, SERVO, T_A, T_B, THETA, add_flow)
+    BLOCKED,
+    C_CIRCUIT,
+    C_CP,
+    C_CV,
+    C_DVA,
+    C_DVB,
+    C_FBRK_NEG,
+    C_FBRK_POS,
+    C_FKIN,
+    C_HA,
+    C_HB,
+    C_INERTIA,
+    C_ISOTHERMAL,
+    C_KAPPA,
+    C_M4,
+    C_MA,
+    C_MB,
+    C_PE,
+    C_PS,
+    C_PS_REG,
+    C_QA,
+    C_QB,
+    C_R,
+    C_T,
+    C_TE,
+    C_TORQUE,
+    C_TS,
+    C_U,
+    C_VA,
+    C_VB,
+    C_XV,
+    FLOW,
+    K_ALPHA,
+    K_AREA,
+    K_BLOCKED,
+    K_DF,
+    K_GAIN,
+    K_HALF_W,
+    K_HOLE_R,
+    K_J,
+    K_KAPPA,
+    K_MP,
+    K_NULL,
+    K_OUTLET,
+    K_PE,
+    K_R,
+    K_STROKE,
+    K_TE,
+    K_TS,
+    K_VDA,
+    K_VDB,
+    K_VVALVE,
+    OMEGA,
+    P_A,
+    P_B,
+    SERVO,
+    T_A,
+    T_B,
+    THETA,
+    add_flow,
+)
 from ..physics.gas import orifice_flow
 from ..physics.valve import spool_displacement
 
 #: [s] time constant with which a stuck shaft's residual velocity inside the
-#: stiction band decays to zero, so that sticking stores no drift.
+#: stiction band decays to zero, so that sticking stores no drift; also how
+#: fast an isothermal chamber's gas returns to the wall temperature.
 HOLD_TIME_CONSTANT_S = 1e-3
 
 
@@ -56,10 +113,13 @@ def core_begin(t, x, u, ps, P, circuit, c, dx):
 
 
 @njit(cache=True)
-def _chamber(p, temp, vol, dvol, mdot, hdot, qdot, r, cv, isothermal):
+def _chamber(p, temp, vol, dvol, mdot, hdot, qdot, r, cv, isothermal, t_wall):
     """(dp/dt [Pa/s], dT/dt [K/s]) of one chamber from its totals."""
     mass = p * vol / (r * temp)
-    dtemp = 0.0 if isothermal else (hdot - cv * temp * mdot - p * dvol + qdot) / (mass * cv)
+    if isothermal:  # the gas is held at the wall temperature (relaxes there within ~ms)
+        dtemp = (t_wall - temp) / HOLD_TIME_CONSTANT_S
+    else:
+        dtemp = (hdot - cv * temp * mdot - p * dvol + qdot) / (mass * cv)
     dp = (r * temp * mdot + mass * r * dtemp - p * dvol) / vol
     return dp, dtemp
 
@@ -76,10 +136,10 @@ def core_end(t, x, P, circuit, c, dx):
         add_flow(c, 0, -m4, c[C_TE], x[T_A])
         c[C_M4] = m4
     dx[P_A], dx[T_A] = _chamber(x[P_A], x[T_A], c[C_VA], c[C_DVA], c[C_MA], c[C_HA], c[C_QA],
-                                r, cv, iso)
+                                r, cv, iso, c[C_TE])
     if circuit <= BLOCKED:
         dx[P_B], dx[T_B] = _chamber(x[P_B], x[T_B], c[C_VB], c[C_DVB], c[C_MB], c[C_HB],
-                                    c[C_QB], r, cv, iso)
+                                    c[C_QB], r, cv, iso, c[C_TE])
     if circuit != SERVO:
         return
     w = x[OMEGA]

@@ -19,8 +19,7 @@ import math
 import numpy as np
 
 from .._jit import njit, prange
-from ..effects.layout import (K_STROKE, N_CONTEXT, OMEGA, OUTPUTS, P_A, P_B, SERVO, T_A, T_B,
-                              THETA)
+from ..effects.layout import K_STROKE, N_CONTEXT, OMEGA, OUTPUTS, P_A, P_B, SERVO, T_A, T_B, THETA
 
 # Dormand-Prince 5(4) tableau
 _A21 = 1 / 5

@@ -10,8 +10,20 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..effects.layout import (CIRCUITS, CORE_STATE_NAMES, N_CONTEXT, OMEGA, OUTPUT_NAMES, P_A, P_B, T_A,
-                              T_B, THETA)
+from ..effects.layout import (
+    BLOCKED,
+    CIRCUITS,
+    CORE_STATE_NAMES,
+    N_CONTEXT,
+    N_CORE_STATES,
+    OMEGA,
+    OUTPUT_NAMES,
+    P_A,
+    P_B,
+    T_A,
+    T_B,
+    THETA,
+)
 from ..errors import SimulationError
 from .assembly import Model
 from .config import ModelConfig
@@ -59,19 +71,58 @@ def as_model(model) -> Model:
 def initial_state(model: Model, angle_rad: float = None, p_a_pa: float = None,
                   p_b_pa: float = None, t_a_k: float = None, t_b_k: float = None,
                   velocity_rad_s: float = 0.0, command_v: float = 5.0,
-                  supply_pa: float = None, config: ModelConfig = None) -> np.ndarray:
-    """Full state vector; unspecified values default to mid-stroke, mid pressure, room T."""
+                  supply_pa: float = None, config: ModelConfig = None,
+                  circuit: str = 'servo') -> np.ndarray:
+    """Full state vector [SI]; unspecified values default to mid-stroke, mid pressure, room T.
+
+    In the static circuits the b side of the valve is a dead end (ports 2
+    and 3 closed), so its default pressure is the supply. Effect-owned
+    states start from each component's ``initial_state`` and are then
+    settled to their own steady state for this command and supply, so that
+    e.g. a spool lag starts at rest even with a null offset.
+    """
     cfg = config or model.config
     core = cfg.core
     ps = core['supply_pressure_pa'] if supply_pa is None else supply_pa
     mid = 0.5 * (ps + core['atmospheric_pressure_pa'])
+    if p_b_pa is None and CIRCUITS[circuit] > BLOCKED:
+        p_b_pa = ps
     x = [0.5 * core['stroke_rad'] if angle_rad is None else angle_rad, velocity_rad_s,
          mid if p_a_pa is None else p_a_pa, mid if p_b_pa is None else p_b_pa,
          core['room_temperature_k'] if t_a_k is None else t_a_k,
          core['room_temperature_k'] if t_b_k is None else t_b_k]
     for comp in model.layout.classes:
         x += list(comp.initial_state(cfg.values_of(comp.name), command_v, ps, core))
-    return np.array(x, dtype=float)
+    x = np.array(x, dtype=float)
+    _settle_effect_states(model, x, command_v, ps, model.param_vector(cfg), CIRCUITS[circuit])
+    return x
+
+
+def _settle_effect_states(model: Model, x: np.ndarray, command_v: float, supply_pa: float,
+                          P: np.ndarray, circuit: int, iterations: int = 30) -> None:
+    """Newton on the effect-owned states (diagonal Jacobian) with the core states held."""
+    first = N_CORE_STATES
+    if model.n_states == first:
+        return
+    rhs = model.kernels['rhs']
+    c, dx = np.zeros(N_CONTEXT), np.zeros(model.n_states)
+    tol = model.abs_tol
+    for _ in range(iterations):
+        rhs(0.0, x, command_v, supply_pa, P, circuit, c, dx)
+        f = dx[first:].copy()
+        moved = False
+        for j, i in enumerate(range(first, model.n_states)):
+            h = 1e-6 * max(abs(x[i]), tol[i] * 1e3)
+            x[i] += h
+            rhs(0.0, x, command_v, supply_pa, P, circuit, c, dx)
+            x[i] -= h
+            slope = (dx[i] - f[j]) / h
+            if slope < 0.0:  # a stable own state: step to where its derivative vanishes
+                step = -f[j] / slope
+                x[i] += step
+                moved = moved or abs(step) > tol[i] * 1e-3
+        if not moved:
+            return
 
 
 def _delayed(t: np.ndarray, values: np.ndarray, delay: float) -> np.ndarray:
@@ -122,7 +173,8 @@ def simulate(model=None, t=None, command_v=5.0, supply_pa=None, x0=None,
     d_in, d_out = model.delays(cfg)
     u_valve = _delayed(t, u, d_in)
     if x0 is None:
-        x0 = initial_state(model, command_v=u_valve[0], supply_pa=ps[0], config=cfg)
+        x0 = initial_state(model, command_v=u_valve[0], supply_pa=ps[0], config=cfg,
+                           circuit=circuit)
     x0 = np.asarray(x0, dtype=float)
     if x0.shape != (model.n_states,):
         raise SimulationError(f'initial state needs {model.n_states} values '
@@ -188,7 +240,8 @@ class Stepper:
         self.params = self.model.params
         cfg = self.model.config
         self.supply_pa = cfg.core['supply_pressure_pa'] if supply_pa is None else supply_pa
-        self.x = (initial_state(self.model, command_v=command_v, supply_pa=self.supply_pa)
+        self.x = (initial_state(self.model, command_v=command_v, supply_pa=self.supply_pa,
+                                circuit=circuit)
                   if x0 is None else np.array(x0, dtype=float))
         self.t = 0.0
         self._c = np.zeros(N_CONTEXT)

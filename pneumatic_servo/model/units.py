@@ -63,3 +63,15 @@ def to_si(value, unit: str, where: str, atmospheric_pa: float = 101325.0) -> flo
             raise ConfigError(f"{where}: 'gauge' only applies to pressures")
         result += atmospheric_pa
     return result
+
+
+_EXAMPLES = {'Pa': "'0.6 MPa gauge' or 701325", 'm^3': "'5 cm^3' or 5e-6", 'm': "'2 mm' or 0.002",
+             'm^2': "'0.5 mm^2' or 5e-7", 's': "'5 ms' or 0.005", 'rad': "'45 deg' or 0.785",
+             'K': "'20 degC' or 293.15"}
+
+
+def unit_hint(unit: str) -> str:
+    """How to write a value of ``unit`` correctly, for error messages."""
+    example = _EXAMPLES.get(unit)
+    text = f'give it in SI ({unit})'
+    return text + (f' or with a unit, e.g. {example}' if example else '')

@@ -1,0 +1,1 @@
+"""Analysis: metrics, comparison, regimes, residual tests, diagnosis, plots and reports."""

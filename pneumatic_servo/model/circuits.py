@@ -1,0 +1,460 @@
+"""The paper's four test circuits as simulation set-ups, and steady states of the static ones.
+
+=============  ======================================================  ===========
+circuit        what is connected                                       paper
+=============  ======================================================  ===========
+``servo``      valve and actuator, shaft free between its end stops    Fig. 1
+``blocked``    valve and actuator, pistons held at ``blocked_angle``   Figs 12, 21
+``closed_port`` valve chamber a alone, ports 2, 3 and 4 closed          Table 5
+``flow``       valve chamber a alone, port 4 vented through the        Fig. 10
+               flow meter (``core.flow_outlet_area_m2``)
+=============  ======================================================  ===========
+
+In the two static circuits only chamber a (the valve chamber, volume
+``core.valve_chamber_volume_m3``) has dynamics; its steady state is where
+the net mass inflow is zero: supply -> a through the metering orifice
+(Eq. 8) or the clearance (Eq. 24), a -> port 5 through the clearance
+(Eq. 17) or the orifice (Eq. 22), and in the flow circuit a -> port 4
+through the flow meter. :func:`steady_closed_port` and :func:`steady_flow`
+find it with ``scipy.optimize.brentq`` on p_a; the gas temperature, and the
+states of any added effect, are then settled as described in
+:func:`steady_state`. The core holds chamber b still; the set-ups put it at
+supply pressure and temperature, where a valve chamber with ports 2 and 3
+closed ends up, so that it draws no supply air (this matters for the
+supply mass flow and for ``supply_pressure_drop``).
+
+All pressures are absolute [Pa]; the paper's supply pressures are gauge
+readings (MODEL_NOTES 1), see :func:`gauge_supply_pa`.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from scipy.optimize import brentq, root
+
+from ..effects.layout import (
+    C_ISOTHERMAL,
+    C_M4,
+    C_M5,
+    C_MA,
+    C_MSUP,
+    CIRCUITS,
+    FLOW,
+    N_CONTEXT,
+    N_CORE_STATES,
+    P_A,
+    T_A,
+)
+from ..errors import SimulationError
+from .assembly import Model
+from .config import ModelConfig
+from .simulate import SimResult, as_model, initial_state, simulate
+
+#: supply pressure of the paper's charge/discharge and servo tests [Pa, gauge]
+PAPER_SUPPLY_GAUGE_PA = 0.6e6
+#: supply pressures of the paper's flow-rate verification (Figs 19-20, Table 5) [Pa, gauge]
+PAPER_FLOW_SUPPLIES_GAUGE_PA = (0.5e6, 0.7e6, 0.83e6)
+#: drive voltages of Table 5 [V]
+PAPER_TABLE5_VOLTAGES_V = (5.0, 5.1, 5.3, 5.5, 5.75, 6.0, 6.5, 7.0, 8.0, 9.0, 10.0)
+STATIC_CIRCUITS = ('closed_port', 'flow')
+
+_MAX_OUTER = 40  # p_a / T_a alternations when T_s differs from T_e
+
+
+# ----------------------------------------------------------------------------- helpers
+def gauge_supply_pa(gauge_pa: float, config: ModelConfig | None = None) -> float:
+    """Absolute supply pressure [Pa] for a gauge reading ``gauge_pa`` [Pa, gauge]."""
+    cfg = config or ModelConfig.paper()
+    return float(gauge_pa) + cfg.core['atmospheric_pressure_pa']
+
+
+def _evaluate(model: Model, P: np.ndarray, x: np.ndarray, voltage_v: float, supply_pa: float,
+              circuit: int) -> tuple[np.ndarray, np.ndarray]:
+    """(context, derivative) vectors of the compiled rhs at state ``x``."""
+    c = np.zeros(N_CONTEXT)
+    dx = np.zeros(model.n_states)
+    model.kernels['rhs'](0.0, x, float(voltage_v), float(supply_pa), P, circuit, c, dx)
+    return c, dx
+
+
+def _net_inflow(model, P, x, voltage_v, supply_pa, circuit, p_a):
+    """Net mass inflow [kg/s] into chamber a with its pressure set to ``p_a`` [Pa]."""
+    x = x.copy()
+    x[P_A] = p_a
+    return _evaluate(model, P, x, voltage_v, supply_pa, circuit)[0][C_MA]
+
+
+def _solve_pressure(model, P, x, voltage_v, supply_pa, circuit, pe) -> float:
+    """p_a [Pa] where the net inflow into chamber a is zero, by brentq between p_e and p_s.
+
+    Every source in the static circuits is at supply or atmospheric
+    pressure, so the root lies between them; the bracket is widened only
+    for user effects that break this.
+    """
+    f = (lambda p: _net_inflow(model, P, x, voltage_v, supply_pa, circuit, p))
+    lo, hi = min(pe, supply_pa), max(pe, supply_pa)
+    f_lo, f_hi = f(lo), f(hi)
+    for _ in range(8):
+        if f_lo * f_hi <= 0.0:
+            break
+        lo, hi = 0.5 * lo, 2.0 * hi
+        f_lo, f_hi = f(lo), f(hi)
+    else:
+        raise SimulationError(f'no steady chamber-a pressure between {lo:.6g} and {hi:.6g} Pa '
+                              f'at {voltage_v:g} V; check the model parameters')
+    # converged to rounding: near pressure ratio 1 the flow is steep in p_a
+    return brentq(f, lo, hi, xtol=1e-9, rtol=4 * np.finfo(float).eps, maxiter=500)
+
+
+def _solve_temperature(model, P, x, voltage_v, supply_pa, circuit, temps) -> float:
+    """T_a [K] where dT_a/dt = 0 at the current p_a, or the current T_a if none is bracketed."""
+    def g(temp):
+        xt = x.copy()
+        xt[T_A] = temp
+        return _evaluate(model, P, xt, voltage_v, supply_pa, circuit)[1][T_A]
+    lo, hi = min(temps) - 1.0, max(temps) + 1.0
+    g_lo, g_hi = g(lo), g(hi)
+    if g_lo * g_hi > 0.0:
+        return x[T_A]
+    return brentq(g, lo, hi, xtol=1e-10, maxiter=200)
+
+
+def _settle_chamber(model, P, x, voltage_v, supply_pa, circuit, pe, temps, fixed_t) -> None:
+    """Set p_a (and, unless ``fixed_t``, T_a) of ``x`` in place to zero net flow and heat."""
+    for _ in range(_MAX_OUTER):
+        x[P_A] = _solve_pressure(model, P, x, voltage_v, supply_pa, circuit, pe)
+        if fixed_t:
+            return
+        t_new = _solve_temperature(model, P, x, voltage_v, supply_pa, circuit, temps)
+        if abs(t_new - x[T_A]) < 1e-9:
+            return
+        x[T_A] = t_new
+
+
+def _free_states(model: Model, isothermal: bool) -> list[int]:
+    """Indices of the states that evolve in a static circuit: p_a, T_a and effect states."""
+    return [P_A] + ([] if isothermal else [T_A]) + list(range(N_CORE_STATES, model.n_states))
+
+
+def _polish(model, P, x, voltage_v, supply_pa, circuit, free) -> np.ndarray:
+    """Newton-type solve of dx/dt = 0 over ``free`` states, started from ``x``."""
+    scale = np.maximum(np.abs(x[free]), model.abs_tol[free] * 1e3)
+
+    def resid(z):
+        xt = x.copy()
+        xt[free] = z * scale
+        return _evaluate(model, P, xt, voltage_v, supply_pa, circuit)[1][free] / scale
+
+    sol = root(resid, x[free] / scale, method='hybr', options={'xtol': 1e-12})
+    out = x.copy()
+    out[free] = sol.x * scale
+    return out
+
+
+def _is_steady(dx: np.ndarray, x: np.ndarray, free: list[int]) -> bool:
+    """True if every free state changes by less than 1e-9 of its size per second."""
+    return bool(np.all(np.abs(dx[free]) <= 1e-9 * np.maximum(np.abs(x[free]), 1e-6) + 1e-12))
+
+
+# ----------------------------------------------------------------------- steady states
+def steady_state(model=None, circuit: str = 'closed_port', voltage_v: float = 5.0,
+                 supply_pa: float | None = None, config: ModelConfig | None = None
+                 ) -> np.ndarray:
+    """Full steady state vector of a static circuit at a held valve voltage.
+
+    Parameters
+    ----------
+    model : Model, ModelConfig or None
+        The model (None: the paper's).
+    circuit : str
+        'closed_port' or 'flow'.
+    voltage_v : float [V]
+        Valve command, held.
+    supply_pa : float [Pa, absolute]
+        Supply pressure (default: the config's).
+    config : ModelConfig, optional
+        Parameter values for the same composition (no recompilation).
+
+    Returns
+    -------
+    numpy.ndarray
+        State vector with chamber a at its steady pressure [Pa] and temperature [K].
+
+    Notes
+    -----
+    p_a is found by ``brentq`` on the net inflow between p_e and p_s. When
+    T_s = T_e (the paper's case) the steady temperature is exactly T_s in
+    every thermal variant: inflow brings T_s, outflow takes T_a, the wall is
+    at T_e, and at zero net flow the energy balance
+    c_p (T_s - T_a) m_in + h S (T_e - T_a) = 0 holds only at T_a = T_s. Otherwise
+    p_a and T_a are settled alternately, each by ``brentq``. States of
+    added effects (spool position, valve supply pressure, ...) and any
+    remaining coupling are then settled together by ``scipy.optimize.root``.
+    """
+    model = as_model(model)
+    cfg = config or model.config
+    if circuit not in STATIC_CIRCUITS:
+        raise SimulationError(f'no steady-state solver for circuit {circuit!r}; use '
+                              f'{" or ".join(STATIC_CIRCUITS)} (simulate the others in time)')
+    core = cfg.core
+    ps = core['supply_pressure_pa'] if supply_pa is None else float(supply_pa)
+    if not (math.isfinite(ps) and ps > 0.0 and math.isfinite(voltage_v)):
+        raise SimulationError('supply pressure must be a finite absolute pressure [Pa] > 0 and '
+                              'the voltage finite')
+    cid = CIRCUITS[circuit]
+    P = model.param_vector(cfg)
+    pe, ts, te = (core['atmospheric_pressure_pa'], core['supply_temperature_k'],
+                  core['room_temperature_k'])
+    x = initial_state(model, p_b_pa=ps, t_b_k=ts, command_v=voltage_v, supply_pa=ps,
+                      config=cfg)
+    x[T_A] = ts
+    isothermal = _evaluate(model, P, x, voltage_v, ps, cid)[0][C_ISOTHERMAL] > 0.5
+    if isothermal:
+        x[T_A] = te  # an isothermal chamber keeps the room temperature it starts at
+    free = _free_states(model, isothermal)
+    _settle_chamber(model, P, x, voltage_v, ps, cid, pe, (ts, te), fixed_t=isothermal or ts == te)
+    if model.n_states == N_CORE_STATES:
+        # brentq's root is final: where Eq. 8 jumps at p_d/p_u = b the net flow can change
+        # sign without passing zero, and the chamber then rests at the jump
+        return x
+    dx = _evaluate(model, P, x, voltage_v, ps, cid)[1]
+    if not _is_steady(dx, x, free):
+        x = _polish(model, P, x, voltage_v, ps, cid, free)
+        dx = _evaluate(model, P, x, voltage_v, ps, cid)[1]
+        if not (np.all(np.isfinite(x)) and _is_steady(dx * 1e-3, x, free)):
+            raise SimulationError(f'no steady state found for the {circuit} circuit at '
+                                  f'{voltage_v:g} V, {ps:.6g} Pa; simulate it in time instead')
+    return x
+
+
+def steady_closed_port(model=None, voltage_v: float = 5.0, supply_pa: float | None = None,
+                       config: ModelConfig | None = None) -> float:
+    """Steady valve-chamber pressure p_a [Pa, absolute] with ports 2, 3, 4 closed (Table 5).
+
+    Parameters
+    ----------
+    model : Model, ModelConfig or None
+        The model (None: the paper's).
+    voltage_v : float [V]
+        Valve command.
+    supply_pa : float [Pa, absolute]
+        Supply pressure (default: the config's).
+    config : ModelConfig, optional
+        Parameter values for the same composition.
+
+    Returns
+    -------
+    float
+        p_a [Pa, absolute] where supply inflow equals exhaust outflow.
+    """
+    return float(steady_state(model, 'closed_port', voltage_v, supply_pa, config)[P_A])
+
+
+def steady_flow(model=None, voltage_v: float = 5.0, supply_pa: float | None = None,
+                config: ModelConfig | None = None) -> tuple[float, float, float]:
+    """Steady flow-rate test of Fig. 10: port 4 vented through the flow meter.
+
+    Parameters
+    ----------
+    model : Model, ModelConfig or None
+        The model (None: the paper's).
+    voltage_v : float [V]
+        Valve command.
+    supply_pa : float [Pa, absolute]
+        Supply pressure (default: the config's).
+    config : ModelConfig, optional
+        Parameter values for the same composition.
+
+    Returns
+    -------
+    (p_a, m4, m5) : tuple of float
+        Valve chamber pressure [Pa, absolute], mass flow out of port 4 [kg/s]
+        and out of exhaust port 5 [kg/s]. At steady state the supply inflow
+        equals m4 + m5 (the basis of Eq. 38).
+    """
+    model = as_model(model)
+    cfg = config or model.config
+    x = steady_state(model, 'flow', voltage_v, supply_pa, cfg)
+    ps = cfg.core['supply_pressure_pa'] if supply_pa is None else supply_pa
+    c, _ = _evaluate(model, model.param_vector(cfg), x, voltage_v, ps, FLOW)
+    return float(x[P_A]), float(c[C_M4]), float(c[C_M5])
+
+
+def steady_outputs(model=None, circuit: str = 'closed_port', voltage_v: float = 5.0,
+                   supply_pa: float | None = None, config: ModelConfig | None = None
+                   ) -> dict[str, float]:
+    """Steady p_a [Pa], T_a [K], m4 and m5 and the supply mass flow [kg/s] of a static circuit."""
+    model = as_model(model)
+    cfg = config or model.config
+    ps = cfg.core['supply_pressure_pa'] if supply_pa is None else supply_pa
+    x = steady_state(model, circuit, voltage_v, ps, cfg)
+    c, _ = _evaluate(model, model.param_vector(cfg), x, voltage_v, ps, CIRCUITS[circuit])
+    return {'p_a_pa': float(x[P_A]), 't_a_k': float(x[T_A]), 'm4_kg_s': float(c[C_M4]),
+            'm5_kg_s': float(c[C_M5]), 'supply_mass_flow_kg_s': float(c[C_MSUP])}
+
+
+def predict_static(model, exp, config: ModelConfig | None = None) -> dict[str, np.ndarray]:
+    """Steady outputs for each row of a static experiment (closed_port or flow CSV table).
+
+    Each row's ``command_v`` [V] and ``supply_pa`` [Pa abs] set the operating
+    point; a measured supply temperature ``t_s_k`` [K] replaces the config's.
+    Returns signal -> array over the rows: ``p_a_pa``, ``t_a_k``, ``m4_kg_s``,
+    ``m5_kg_s``. A row without a steady state gets NaN.
+    """
+    model = as_model(model)
+    cfg = config or model.config
+    if exp.circuit not in STATIC_CIRCUITS:
+        raise SimulationError(f'{exp.name}: a static table must be a closed_port or flow test, '
+                              f'not {exp.circuit!r}')
+    n = len(exp.t)
+    volts = exp['command_v']
+    supplies = exp.signals.get('supply_pa', np.full(n, cfg.core['supply_pressure_pa']))
+    temps = exp.signals.get('t_s_k')
+    names = ('p_a_pa', 't_a_k', 'm4_kg_s', 'm5_kg_s')
+    out = {k: np.full(n, np.nan) for k in names}
+    for i in range(n):
+        row_cfg = cfg
+        if temps is not None and np.isfinite(temps[i]):
+            row_cfg = cfg.copy()
+            row_cfg.core['supply_temperature_k'] = float(temps[i])
+        try:
+            vals = steady_outputs(model, exp.circuit, float(volts[i]), float(supplies[i]),
+                                  row_cfg)
+        except (SimulationError, ValueError, RuntimeError):
+            continue  # a row the model cannot reach reads as a failed prediction
+        for k in names:
+            out[k][i] = vals[k]
+    return out
+
+
+# ----------------------------------------------------------------------- time set-ups
+def _time(duration_s: float, sample_s: float) -> np.ndarray:
+    if not (duration_s > 0 and sample_s > 0 and duration_s / sample_s >= 1):
+        raise SimulationError('duration_s and sample_s must be positive, duration >= sample')
+    return np.arange(int(round(duration_s / sample_s)) + 1) * sample_s
+
+
+def charge_discharge(model=None, supply_pa: float | None = None, start_v: float = 5.0,
+                     step_v: float = 5.5, step_time_s: float = 0.1, duration_s: float = 6.0,
+                     sample_s: float = 1e-3, method: str = 'adaptive',
+                     config: ModelConfig | None = None) -> SimResult:
+    """Charge/discharge test (Figs 21-23): pistons held, valve stepped ``start_v`` -> ``step_v``.
+
+    Parameters
+    ----------
+    model : Model, ModelConfig or None
+        The model (None: the paper's).
+    supply_pa : float [Pa, absolute]
+        Supply pressure; default 0.6 MPa gauge as in the paper.
+    start_v, step_v : float [V]
+        Valve command before and after the step (paper: 5 V -> 5.5 V).
+    step_time_s : float [s]
+        Time of the step.
+    duration_s, sample_s : float [s]
+        Length of the record and sample period.
+    method : str
+        'adaptive' (offline) or 'fixed' (real-time RK4).
+    config : ModelConfig, optional
+        Parameter values for the same composition.
+
+    Returns
+    -------
+    SimResult
+        Circuit 'blocked'; pistons at ``core.blocked_angle_rad``.
+
+    Notes
+    -----
+    The paper withholds the start values of p_a and p_b. Chamber a starts at
+    atmospheric pressure and chamber b at supply pressure, both gases at room
+    temperature: the state of a rig where a was vented and b charged before
+    the test, so that a charges and b discharges over the whole record. The
+    short hold at ``start_v`` shows the (already unbalanced) centre before
+    the step.
+    """
+    model = as_model(model)
+    cfg = config or model.config
+    ps = gauge_supply_pa(PAPER_SUPPLY_GAUGE_PA, cfg) if supply_pa is None else supply_pa
+    t = _time(duration_s, sample_s)
+    u = np.where(t < step_time_s, start_v, step_v)
+    x0 = initial_state(model, angle_rad=cfg.core['blocked_angle_rad'],
+                       p_a_pa=cfg.core['atmospheric_pressure_pa'], p_b_pa=ps,
+                       command_v=start_v, supply_pa=ps, config=cfg)
+    return simulate(model, t, u, ps, x0=x0, circuit='blocked', method=method, config=cfg)
+
+
+def sine_command(t: np.ndarray, mean_v: float = 5.0, amplitude_v: float = 0.35,
+                 frequency_hz: float = 2.0) -> np.ndarray:
+    """Valve command [V] of the paper's servo verification: mean + amplitude sin(2 pi f t)."""
+    return mean_v + amplitude_v * np.sin(2.0 * np.pi * frequency_hz * np.asarray(t))
+
+
+def sine_response(model=None, supply_pa: float | None = None, mean_v: float = 5.0,
+                  amplitude_v: float = 0.35, frequency_hz: float = 2.0,
+                  duration_s: float = 10.0, sample_s: float = 1e-3, x0=None,
+                  method: str = 'adaptive', config: ModelConfig | None = None) -> SimResult:
+    """Open-loop servo response to a sine valve command (Section 6.3, Figs 24-26).
+
+    Parameters
+    ----------
+    model : Model, ModelConfig or None
+        The model (None: the paper's).
+    supply_pa : float [Pa, absolute]
+        Supply pressure; default 0.6 MPa gauge.
+    mean_v, amplitude_v : float [V]
+        Command mean and amplitude (paper: 5 +/- 0.35 V, i.e. 4.65-5.35 V).
+    frequency_hz : float [Hz]
+        Command frequency (paper: 2 Hz).
+    duration_s, sample_s : float [s]
+        Length of the record and sample period (1 kHz by default).
+    x0 : array, optional
+        Initial state; default mid-stroke at rest, both chambers at the mean
+        of supply and atmospheric pressure, gas at room temperature (the
+        paper does not give its start state).
+    method : str
+        'adaptive' (offline) or 'fixed' (real-time RK4).
+    config : ModelConfig, optional
+        Parameter values for the same composition.
+
+    Returns
+    -------
+    SimResult
+        Circuit 'servo'.
+    """
+    model = as_model(model)
+    cfg = config or model.config
+    ps = gauge_supply_pa(PAPER_SUPPLY_GAUGE_PA, cfg) if supply_pa is None else supply_pa
+    t = _time(duration_s, sample_s)
+    u = sine_command(t, mean_v, amplitude_v, frequency_hz)
+    if x0 is None:
+        x0 = initial_state(model, command_v=u[0], supply_pa=ps, config=cfg)
+    return simulate(model, t, u, ps, x0=x0, circuit='servo', method=method, config=cfg)
+
+
+def static_response(model=None, circuit: str = 'closed_port', voltage_v: float = 5.0,
+                    supply_pa: float | None = None, duration_s: float = 1.0,
+                    sample_s: float = 1e-3, method: str = 'adaptive',
+                    config: ModelConfig | None = None) -> SimResult:
+    """A static circuit simulated in time from atmosphere at a held ``voltage_v`` [V].
+
+    The valve chamber starts at atmospheric pressure and room temperature
+    (chamber b, held still, at supply); the record approaches the steady
+    state of :func:`steady_state`.
+    """
+    model = as_model(model)
+    cfg = config or model.config
+    if circuit not in STATIC_CIRCUITS:
+        raise SimulationError(f'static_response needs {" or ".join(STATIC_CIRCUITS)}, '
+                              f'not {circuit!r}')
+    ps = cfg.core['supply_pressure_pa'] if supply_pa is None else supply_pa
+    pe = cfg.core['atmospheric_pressure_pa']
+    x0 = initial_state(model, p_a_pa=pe, p_b_pa=ps, t_b_k=cfg.core['supply_temperature_k'],
+                       command_v=voltage_v, supply_pa=ps, config=cfg)
+    return simulate(model, _time(duration_s, sample_s), voltage_v, ps, x0=x0,
+                    circuit=circuit, method=method, config=cfg)
+
+
+__all__ = ['PAPER_SUPPLY_GAUGE_PA', 'PAPER_FLOW_SUPPLIES_GAUGE_PA', 'PAPER_TABLE5_VOLTAGES_V',
+           'STATIC_CIRCUITS', 'gauge_supply_pa', 'steady_state',
+           'steady_closed_port', 'steady_flow', 'steady_outputs', 'predict_static',
+           'charge_discharge', 'sine_command', 'sine_response', 'static_response']
