@@ -38,7 +38,11 @@ MAX_STEPS_OFFLINE = 1_000_000  # per sample interval
 
 @njit(cache=True)
 def project(x, P, circuit):
-    """Keep the state physical after a step: end stops, positive p and T."""
+    """Keep the state physical after a step: end stops, positive p and T.
+
+    Returns True if the state was changed.
+    """
+    before = x[THETA] + x[OMEGA] + x[P_A] + x[P_B] + x[T_A] + x[T_B]
     if circuit == SERVO:
         if x[THETA] <= 0.0:
             x[THETA] = 0.0
@@ -52,6 +56,7 @@ def project(x, P, circuit):
     x[P_B] = max(x[P_B], 10.0)
     x[T_A] = max(x[T_A], 10.0)
     x[T_B] = max(x[T_B], 10.0)
+    return x[THETA] + x[OMEGA] + x[P_A] + x[P_B] + x[T_A] + x[T_B] != before
 
 
 def make_integrators(rhs, n_state):
@@ -86,13 +91,13 @@ def make_integrators(rhs, n_state):
     def adaptive_interval(t, x, u, ps, P, circuit, h, dt, rtol, atol, c, w, max_steps):
         """Advance ``x`` in place over [t, t+h]; returns (status, next step guess).
 
-        A step that would carry the shaft through an end stop is shortened
+        ``w[0]`` must hold rhs(t, x) on entry (the caller has it: it records
+        the outputs at every sample with that same evaluation). A step that would carry the shaft through an end stop is shortened
         (secant on the step size) until it lands within ``STOP_TOL`` of
         the stop, so the impact happens at the right time.
         """
         k1, k2, k3, k4, k5, k6, k7, xt, xn = w[0], w[1], w[2], w[3], w[4], w[5], w[6], w[7], w[8]
         t_end = t + h
-        rhs(t, x, u, ps, P, circuit, c, k1)
         n_steps = 0
         while t < t_end - 1e-15 * max(1.0, abs(t_end)):
             last = dt >= t_end - t
@@ -141,8 +146,13 @@ def make_integrators(rhs, n_state):
                 t = t_end if last else t + hs
                 for i in range(n_state):
                     x[i] = xn[i]
-                project(x, P, circuit)
-                rhs(t, x, u, ps, P, circuit, c, k1)
+                if last:
+                    project(x, P, circuit)
+                elif project(x, P, circuit):
+                    rhs(t, x, u, ps, P, circuit, c, k1)
+                else:  # first same as last: k7 is the derivative at the new point
+                    for i in range(n_state):
+                        k1[i] = k7[i]
                 grown = hs * (5.0 if err == 0.0 else min(5.0, 0.9 * err ** -0.2))
                 dt = max(dt, grown) if last else grown
             else:
@@ -157,6 +167,7 @@ def make_integrators(rhs, n_state):
 
     @njit
     def record(t, x, u, ps, P, circuit, c, dx, X, Y, k):
+        """Store state and outputs at sample k; leaves rhs(t, x) in ``dx``."""
         rhs(t, x, u, ps, P, circuit, c, dx)
         for i in range(n_state):
             X[k, i] = x[i]
@@ -170,7 +181,7 @@ def make_integrators(rhs, n_state):
         w = np.zeros((9, n_state))
         x = x0.copy()
         project(x, P, circuit)
-        record(t[0], x, u[0], ps[0], P, circuit, c, w[8], X, Y, 0)
+        record(t[0], x, u[0], ps[0], P, circuit, c, w[0], X, Y, 0)
         dt = 1e-5
         for k in range(len(t) - 1):
             h = t[k + 1] - t[k]
@@ -182,7 +193,7 @@ def make_integrators(rhs, n_state):
                 status = fixed_interval(t[k], x, u[k], ps[k], P, circuit, h, n_sub, c, w)
             if status != OK:
                 return status, k
-            record(t[k + 1], x, u[k + 1], ps[k + 1], P, circuit, c, w[8], X, Y, k + 1)
+            record(t[k + 1], x, u[k + 1], ps[k + 1], P, circuit, c, w[0], X, Y, k + 1)
         return OK, len(t) - 1
 
     @njit(parallel=True)

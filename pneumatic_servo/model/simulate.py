@@ -264,6 +264,8 @@ class Stepper:
                                          self.circuit, self.period_s, self.substeps, self._c,
                                          self._w)
         else:
+            k['rhs'](self.t, self.x, u, self.supply_pa, self.params, self.circuit, self._c,
+                     self._w[0])
             status, self._dt = k['adaptive_interval'](
                 self.t, self.x, u, self.supply_pa, self.params, self.circuit, self.period_s,
                 min(self._dt, self.period_s), self.rtol, self._atol, self._c, self._w,
