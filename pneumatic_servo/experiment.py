@@ -26,6 +26,7 @@ SIGNALS = {
     'm4_kg_s': ('kg/s', 'mass flow out of port 4 (flow test)'),
     'm5_kg_s': ('kg/s', 'mass flow out of exhaust port 5 (flow test)'),
     't_s_k': ('K', 'supply temperature (flow test)'),
+    'setpoint_rad': ('rad', 'controller setpoint (closed-loop records)'),
 }
 #: inputs a simulation needs, and the measured outputs compared with it
 INPUTS = ('command_v', 'supply_pa')

@@ -113,6 +113,16 @@ class Objective:
         return {ch: float(np.sqrt(np.mean(np.concatenate(v) ** 2))) for ch, v in sums.items()}
 
 
+def correlation_inflation(residual: np.ndarray) -> float:
+    """n / n_eff of a residual with lag-1 autocorrelation rho: (1 + rho) / (1 - rho), >= 1."""
+    r = residual - residual.mean()
+    denom = float(np.dot(r, r))
+    if r.size < 3 or denom == 0.0:
+        return 1.0
+    rho = min(max(float(np.dot(r[1:], r[:-1])) / denom, 0.0), 0.999)
+    return (1.0 + rho) / (1.0 - rho)
+
+
 def _bounds(config: ModelConfig, free, bounds):
     lo, hi = [], []
     for key in free:
@@ -179,7 +189,9 @@ def fit_output_error(config: ModelConfig, experiments: list[Experiment], free: l
     J = sol.jac
     dof = max(n - p, 1)
     sigma2 = 2.0 * sol.cost / dof
-    cov = sigma2 * np.linalg.pinv(J.T @ J)
+    # residuals sampled at 1 kHz are far from independent: inflate the covariance by
+    # n / n_eff for an AR(1) residual, so the standard errors are not over-confident
+    cov = sigma2 * correlation_inflation(sol.fun) * np.linalg.pinv(J.T @ J)
     sd = np.sqrt(np.clip(np.diag(cov), 0.0, None))
     with np.errstate(invalid='ignore', divide='ignore'):
         corr = cov / np.outer(sd, sd)

@@ -22,22 +22,47 @@ STATE_SIGNALS = {'angle_rad': THETA, 'velocity_rad_s': OMEGA, 'p_a_pa': P_A, 'p_
                  't_a_k': T_A, 't_b_k': T_B}
 
 
+#: [s] half-width of the window over which an unmeasured velocity is estimated from the angle
+VELOCITY_HALF_WINDOW_S = 5e-3
+
+
+def _angle_slope(t: np.ndarray, angle: np.ndarray, k: int) -> float:
+    """Least-squares slope [rad/s] of the angle over +/- VELOCITY_HALF_WINDOW_S around sample k.
+
+    A two-point difference of a quantised encoder angle jumps by whole
+    counts per sample; a centred line over ~10 ms averages that out.
+    """
+    half = max(1, int(round(VELOCITY_HALF_WINDOW_S / (t[1] - t[0]))))
+    lo, hi = max(0, k - half), min(len(t), k + half + 1)
+    if hi - lo < 2:
+        return 0.0
+    tt = t[lo:hi] - t[lo:hi].mean()
+    return float(np.dot(tt, angle[lo:hi] - angle[lo:hi].mean()) / np.dot(tt, tt))
+
+
 def _measured_state(model: Model, cfg: ModelConfig, exp: Experiment, k: int,
                     command_v: float) -> np.ndarray:
-    """State vector from the measurements at sample ``k``; unmeasured parts from defaults."""
+    """State vector from the measurements at sample ``k``; unmeasured parts from defaults.
+
+    Velocity: measured, else the angle's local slope. Gas temperatures:
+    measured, else room temperature.
+    """
     sig = exp.signals
-    vel = None
     if 'velocity_rad_s' in sig:
         vel = sig['velocity_rad_s'][k]
     elif 'angle_rad' in sig and len(exp.t) > 1:
-        k1 = min(k + 1, len(exp.t) - 1)
-        k0 = k1 - 1
-        vel = (sig['angle_rad'][k1] - sig['angle_rad'][k0]) / (exp.t[k1] - exp.t[k0])
-    get = (lambda name: sig[name][k] if name in sig else None)
+        vel = _angle_slope(exp.t, sig['angle_rad'], k)
+    else:
+        vel = 0.0
+
+    def get(name):
+        return sig[name][k] if name in sig else None
+
     return initial_state(model, angle_rad=get('angle_rad'), p_a_pa=get('p_a_pa'),
                          p_b_pa=get('p_b_pa'), t_a_k=get('t_a_k'), t_b_k=get('t_b_k'),
-                         velocity_rad_s=vel or 0.0, command_v=command_v,
-                         supply_pa=sig['supply_pa'][k], config=cfg)
+                         velocity_rad_s=vel, command_v=command_v,
+                         supply_pa=sig['supply_pa'][k] if 'supply_pa' in sig else None,
+                         config=cfg, circuit=exp.circuit)
 
 
 def _inputs(exp: Experiment, cfg: ModelConfig):

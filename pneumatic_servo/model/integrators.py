@@ -31,7 +31,7 @@ _B1, _B3, _B4, _B5, _B6 = 35 / 384, 500 / 1113, 125 / 192, -2187 / 6784, 11 / 84
 _E1, _E3, _E4, _E5, _E6, _E7 = (71 / 57600, -71 / 16695, 71 / 1920, -17253 / 339200,
                                 22 / 525, -1 / 40)
 
-OK, NON_FINITE, STEP_UNDERFLOW = 0, 1, 2
+OK, NON_FINITE, STEP_UNDERFLOW, STEP_CAP = 0, 1, 2, 3
 STOP_TOL = 1e-7  # [rad] how far a step may carry the shaft past an end stop
 MAX_STEPS_OFFLINE = 1_000_000  # per sample interval
 
@@ -92,9 +92,10 @@ def make_integrators(rhs, n_state):
         """Advance ``x`` in place over [t, t+h]; returns (status, next step guess).
 
         ``w[0]`` must hold rhs(t, x) on entry (the caller has it: it records
-        the outputs at every sample with that same evaluation). A step that would carry the shaft through an end stop is shortened
-        (secant on the step size) until it lands within ``STOP_TOL`` of
-        the stop, so the impact happens at the right time.
+        the outputs at every sample with that same evaluation). A step
+        that would carry the shaft through an end stop is shortened (secant
+        on the step size) until it lands within ``STOP_TOL`` of the stop, so
+        the impact happens at the right time.
         """
         k1, k2, k3, k4, k5, k6, k7, xt, xn = w[0], w[1], w[2], w[3], w[4], w[5], w[6], w[7], w[8]
         t_end = t + h
@@ -158,8 +159,10 @@ def make_integrators(rhs, n_state):
             else:
                 dt = hs * max(0.2, 0.9 * err ** -0.25)
             n_steps += 1
-            if dt < 1e-12 or n_steps > max_steps:
+            if dt < 1e-12:
                 return STEP_UNDERFLOW, dt
+            if n_steps > max_steps:
+                return STEP_CAP, dt
         for i in range(n_state):
             if not math.isfinite(x[i]):
                 return NON_FINITE, dt

@@ -27,10 +27,12 @@ from ..effects.layout import (
 from ..errors import SimulationError
 from .assembly import Model
 from .config import ModelConfig
+from .integrators import STEP_CAP
 
 #: default relative tolerance of the offline integrator (see benchmarks/ for its accuracy)
 DEFAULT_RTOL = 1e-7
-_STATUS = {1: 'a state became non-finite', 2: 'the step size collapsed'}
+_STATUS = {1: 'a state became non-finite', 2: 'the step size collapsed',
+           3: 'more substeps were needed than allowed'}
 
 
 @dataclass
@@ -219,8 +221,11 @@ class Stepper:
     constant cost. ``method='adaptive'``: Dormand-Prince 5(4) substeps with
     error control (``rtol``), capped at ``max_substeps`` per period so the
     worst-case cost is bounded; more accurate and usually cheaper (see
-    benchmarks/bench_model.py). Command and measurement delays of the
-    components are applied with ring buffers of whole periods.
+    benchmarks/bench_model.py). A period that would need more than
+    ``max_substeps`` is redone with fixed RK4 (``4 * substeps`` substeps), so
+    the plant never stops; ``capped_periods`` counts such periods. Command
+    and measurement delays of the components are applied with ring buffers
+    of whole periods.
     """
 
     def __init__(self, model=None, period_s: float = 1e-3, substeps: int = 10,
@@ -234,6 +239,7 @@ class Stepper:
             raise SimulationError(f"unknown stepper method {method!r}; use 'fixed' or 'adaptive'")
         self.method, self.rtol, self.max_substeps = method, float(rtol), int(max_substeps)
         self._dt = period_s / 4
+        self.capped_periods = 0
         self._atol = self.model.abs_tol
         self.period_s, self.substeps = float(period_s), int(substeps)
         self.circuit = CIRCUITS[circuit]
@@ -264,12 +270,20 @@ class Stepper:
                                          self.circuit, self.period_s, self.substeps, self._c,
                                          self._w)
         else:
+            before = self.x.copy()
             k['rhs'](self.t, self.x, u, self.supply_pa, self.params, self.circuit, self._c,
                      self._w[0])
             status, self._dt = k['adaptive_interval'](
                 self.t, self.x, u, self.supply_pa, self.params, self.circuit, self.period_s,
                 min(self._dt, self.period_s), self.rtol, self._atol, self._c, self._w,
                 self.max_substeps)
+            if status == STEP_CAP:  # bounded work: finish this period at fixed cost
+                self.capped_periods += 1
+                self.x[:] = before
+                self._dt = self.period_s / 4
+                status = k['fixed_interval'](self.t, self.x, u, self.supply_pa, self.params,
+                                             self.circuit, self.period_s, 4 * self.substeps,
+                                             self._c, self._w)
         if status != 0:
             raise SimulationError(f'stepper failed at t = {self.t:.6g} s: {_STATUS[status]}')
         self.t += self.period_s

@@ -1,0 +1,78 @@
+"""``pneumatic-servo verify BAG``: a regression test of the model against a recorded experiment.
+
+Replays the bag through the model (open loop by default, like the paper's
+Section 6.3) and checks the largest absolute error of each measured channel:
+angle against --max-angle-error (degrees, default the paper's 1.25) and the
+chamber pressures against --max-pressure-error (Pa by default, default the
+paper's 4e-3 MPa = 4000 Pa; a unit may be given: '4 kPa', '0.004 MPa').
+Exit status: 0 all channels pass, 1 a channel fails (the table names it),
+2 bad input.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import math
+from pathlib import Path
+
+
+def add_parser(sub) -> argparse.ArgumentParser:
+    p = sub.add_parser('verify', help='check a recorded experiment against the model; exit 0 '
+                       'if within the error limits, 1 if not', description=__doc__,
+                       formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument('bag', metavar='BAG', help='rosbag2 directory (sqlite3 or MCAP) or static CSV')
+    p.add_argument('--max-angle-error', default='1.25', metavar='DEG',
+                   help='largest accepted angle error [deg] (default 1.25, the paper\'s)')
+    p.add_argument('--max-pressure-error', default='4000', metavar='PA',
+                   help='largest accepted chamber pressure error [Pa, or with a unit such as '
+                        '"4 kPa"] (default 4000 Pa = 4e-3 MPa, the paper\'s)')
+    p.add_argument('--max-flow-error', default=None, metavar='KG_S',
+                   help='largest accepted flow error [kg/s] (static flow tables; default: '
+                        'flows are reported, not checked)')
+    p.add_argument('--config', metavar='CFG', help='model config YAML (default: the paper\'s)')
+    p.add_argument('--effects', metavar='E1,E2', help='catalogue effects to add (default values)')
+    p.add_argument('--mode', choices=('open_loop', 'k_step'), default='open_loop',
+                   help='prediction view whose errors are checked (default open_loop)')
+    p.add_argument('--horizon', type=float, default=0.2, metavar='S',
+                   help='k-step prediction horizon [s] (default 0.2)')
+    p.add_argument('--skip', type=float, default=0.0, metavar='S',
+                   help='leave the first S seconds out of the check')
+    p.add_argument('--json', metavar='PATH', help='write the check as JSON')
+    p.set_defaults(run=run)
+    return p
+
+
+def _value(text: str, unit: str, what: str) -> float:
+    """A positive limit: a bare number is in ``unit``; '4 kPa' and the like are converted."""
+    from ..errors import ConfigError
+    from ..model.units import to_si
+    try:
+        value = float(text)
+    except ValueError:
+        value = to_si(text, 'rad' if unit == 'deg' else unit, what)
+        if unit == 'deg':
+            value = math.degrees(value)
+    if not (value > 0 and math.isfinite(value)):
+        raise ConfigError(f'{what} must be a positive number, got {text!r}')
+    return value
+
+
+def run(args) -> int:
+    from ..analysis.compare import format_table, limits_for, verify
+    from ..io import read_experiment
+    limits = limits_for(_value(args.max_angle_error, 'deg', '--max-angle-error'),
+                        _value(args.max_pressure_error, 'Pa', '--max-pressure-error'),
+                        None if args.max_flow_error is None
+                        else _value(args.max_flow_error, 'kg/s', '--max-flow-error'))
+    exp = read_experiment(args.bag)
+    ok, rows, result = verify(exp, args.config, effects=args.effects, limits=limits,
+                              mode=args.mode, horizon_s=args.horizon, skip_s=args.skip)
+    print(f'{exp.name}: {args.mode.replace("_", "-")} prediction vs measurement')
+    print(format_table(rows))
+    failing = [r['channel'] for r in rows if r['passed'] is False]
+    print('PASS' if ok else f'FAIL: {", ".join(failing)}')
+    if args.json:
+        Path(args.json).write_text(json.dumps({'passed': ok, 'failing': failing, 'rows': rows,
+                                               'compare': result}, indent=2))
+    return 0 if ok else 1
+

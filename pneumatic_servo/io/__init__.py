@@ -1,0 +1,39 @@
+"""Recorded experiments in and out: rosbag2 (sqlite3, MCAP) and static CSV <-> Experiment.
+
+``read_experiment`` takes a bag directory or a CSV file and returns a
+validated :class:`~pneumatic_servo.experiment.Experiment`: time series
+resampled onto one uniform grid (CSV: ``static=True``, one row per
+operating point). ``write_experiment_bag`` and ``write_static_csv`` write
+them back in the INTERFACES.md formats. Uses ``rosbags`` only, never rclpy.
+"""
+from __future__ import annotations
+
+from pathlib import Path
+
+from ..experiment import Experiment
+from .bag import read_bag, write_experiment_bag
+from .csv import read_static_csv, write_static_csv
+from .topics import TOPICS
+
+__all__ = ['read_experiment', 'read_bag', 'read_static_csv', 'write_experiment_bag',
+           'write_static_csv', 'write_experiment', 'TOPICS']
+
+
+def read_experiment(path, **options) -> Experiment:
+    """Read a bag directory (sqlite3 or MCAP) or a static ``.csv`` file.
+
+    ``options`` go to :func:`read_bag` (bags) or are ignored but ``name``
+    (CSV). Any problem raises ``ExperimentError`` with a one-line reason.
+    """
+    path = Path(path)
+    if path.suffix.lower() == '.csv':
+        return read_static_csv(path, name=options.get('name'))
+    return read_bag(path, **options)
+
+
+def write_experiment(exp: Experiment, path, storage: str = 'sqlite3',
+                     metadata: dict | None = None, **options) -> Path:
+    """Write a time series as a bag, a static table as a CSV (``path`` ending in .csv)."""
+    if exp.static:
+        return write_static_csv(exp, path, metadata)
+    return write_experiment_bag(exp, path, storage, metadata, **options)
