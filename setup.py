@@ -26,6 +26,8 @@ setup(
         'ros': ['ros-jazzy-rclpy', 'ros-jazzy-common-interfaces', 'ros-jazzy-rmw-fastrtps-cpp'],
         # compiled kernels; the model runs as plain Python without it
         'fast': ['numba>=0.59'],
+        # the paper rig's NI PCI-6229 through NI-DAQmx (only for backend rig, driver nidaqmx)
+        'rig': ['nidaqmx'],
         'test': ['pytest>=7', 'pytest-timeout'],
     },
     zip_safe=True,

@@ -12,6 +12,7 @@ from .layout import (
     BLOCKED,
     C_CIRCUIT,
     C_FBRK_NEG,
+    C_FEDGE_NEG,
     C_FKIN,
     C_INERTIA,
     C_KAPPA,
@@ -263,6 +264,7 @@ class PayloadInertia(Component):
 def _asym_friction_hook(t, x, s, p, P, c, dx):
     extra = 0.5 * P[K_DF] * p[0]
     c[C_FBRK_NEG] += extra
+    c[C_FEDGE_NEG] += extra
     if x[OMEGA] < 0.0:
         c[C_FKIN] -= extra
 

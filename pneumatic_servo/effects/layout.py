@@ -20,7 +20,7 @@ CIRCUITS = {'servo': SERVO, 'blocked': BLOCKED, 'closed_port': CLOSED_PORT, 'flo
  C_VA, C_VB, C_DVA, C_DVB,
  C_MA, C_MB, C_HA, C_HB, C_QA, C_QB, C_MSUP,
  C_TORQUE, C_INERTIA, C_FKIN, C_FBRK_POS, C_FBRK_NEG, C_ISOTHERMAL,
- C_M4, C_M5, C_CIRCUIT, C_PS_REG, N_CONTEXT) = range(33)
+ C_M4, C_M5, C_CIRCUIT, C_PS_REG, C_FEDGE_POS, C_FEDGE_NEG, N_CONTEXT) = range(35)
 #: context entries recorded as simulation outputs, with names and units
 OUTPUTS = (C_XV, C_PS, C_M4, C_M5, C_MSUP)
 OUTPUT_NAMES = ('spool_position_m', 'valve_supply_pressure_pa', 'm4_kg_s', 'm5_kg_s',

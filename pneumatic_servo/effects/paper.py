@@ -13,6 +13,8 @@ from .base import Component, Param
 from .layout import (
     C_FBRK_NEG,
     C_FBRK_POS,
+    C_FEDGE_NEG,
+    C_FEDGE_POS,
     C_FKIN,
     C_ISOTHERMAL,
     C_KAPPA,
@@ -26,6 +28,7 @@ from .layout import (
     C_TE,
     C_TS,
     C_XV,
+    K_ALPHA,
     K_DF,
     K_DH,
     K_DS,
@@ -194,6 +197,9 @@ def _stribeck_hook(t, x, s, p, P, c, dx):
     c[C_FKIN] += arm * stribeck_force(x[OMEGA], p[0], p[1], p[2], p[3])
     c[C_FBRK_POS] += arm * p[0]
     c[C_FBRK_NEG] += arm * p[0]
+    edge = arm * stribeck_force(P[K_ALPHA], p[0], p[1], p[2], p[3])
+    c[C_FEDGE_POS] += edge
+    c[C_FEDGE_NEG] += edge
 
 
 class StribeckFriction(Component):
@@ -226,6 +232,9 @@ def _coulomb_viscous_hook(t, x, s, p, P, c, dx):
     c[C_FKIN] += arm * coulomb_viscous_force(x[OMEGA], p[0], p[1])
     c[C_FBRK_POS] += arm * p[0]
     c[C_FBRK_NEG] += arm * p[0]
+    edge = arm * coulomb_viscous_force(P[K_ALPHA], p[0], p[1])
+    c[C_FEDGE_POS] += edge
+    c[C_FEDGE_NEG] += edge
 
 
 class CoulombViscousFriction(Component):

@@ -22,6 +22,8 @@ from ..effects.layout import (
     C_DVB,
     C_FBRK_NEG,
     C_FBRK_POS,
+    C_FEDGE_NEG,
+    C_FEDGE_POS,
     C_FKIN,
     C_HA,
     C_HB,
@@ -146,12 +148,16 @@ def core_end(t, x, P, circuit, c, dx):
     drive = P[K_AREA] * P[K_DF] * (x[P_A] - x[P_B]) + c[C_TORQUE]
     inertia = c[C_INERTIA]
     if abs(w) <= P[K_ALPHA]:  # stiction band, Eq. 34
-        if -c[C_FBRK_NEG] <= drive <= c[C_FBRK_POS]:
+        # breaking away takes at least the sliding friction at the band edge: otherwise a
+        # drive between the two would chatter along the edge (a Karnopp sliding mode)
+        brk_pos = max(c[C_FBRK_POS], c[C_FEDGE_POS])
+        brk_neg = max(c[C_FBRK_NEG], c[C_FEDGE_NEG])
+        if -brk_neg <= drive <= brk_pos:
             acc = -w / HOLD_TIME_CONSTANT_S
         elif drive > 0.0:
-            acc = (drive - c[C_FBRK_POS]) / inertia
+            acc = (drive - brk_pos) / inertia
         else:
-            acc = (drive + c[C_FBRK_NEG]) / inertia
+            acc = (drive + brk_neg) / inertia
     else:
         acc = (drive - c[C_FKIN]) / inertia
     th = x[THETA]

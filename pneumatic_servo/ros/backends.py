@@ -1,0 +1,254 @@
+"""What is behind the plant node: the simulated model, a rig through a DAQ driver, or a
+recorded bag. Pure (no rclpy): the node only sees :class:`Backend`.
+
+A stepping backend (sim, rig) is driven once per period: ``step(u)`` applies
+the gated valve voltage ``u`` [V] for the next period and returns the
+measurement at its end. ``apply(u)`` writes a fresh command at once where a
+real valve is (the rig), so it acts within the period it arrives in.
+Replay is not stepped: it yields the bag's measurements at their recorded
+times.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+from ..control.measurement import Measurement
+from ..errors import ConfigError, ExperimentError
+
+
+class Backend:
+    """Interface of a stepping backend."""
+
+    kind = ''
+    description = ''
+    period_s = 1e-3
+
+    def start(self) -> Measurement:
+        """The measurement at time 0."""
+        raise NotImplementedError
+
+    def step(self, command_v: float) -> Measurement:
+        raise NotImplementedError
+
+    def apply(self, command_v: float) -> None:
+        """Write a command now (only where a real output exists)."""
+
+    def safe(self) -> None:
+        """Drive the valve to the safe voltage now."""
+
+    def close(self) -> None:
+        self.safe()
+
+
+def torque_of(model_config) -> float:
+    """[m^3] pneumatic torque per pascal of p_a - p_b: A d_f (the core's moment balance)."""
+    core = model_config.core
+    return core['piston_area_m2'] * core['pinion_pitch_diameter_m']
+
+
+class SimBackend(Backend):
+    """The nonlinear model stepped in real time (a :class:`~pneumatic_servo.model.Stepper`).
+
+    Parameters
+    ----------
+    model_config : ModelConfig
+        Components, effects and parameter values.
+    period_s : float [s]
+    initial_angle_rad : float [rad], NaN for mid-stroke
+    supply_pa : float [Pa, absolute], NaN for the config's
+    method : str
+        Stepper integrator: 'fixed' (RK4, constant cost: the real-time choice) or 'adaptive'.
+    """
+
+    kind = 'sim'
+
+    def __init__(self, model_config, period_s: float, initial_angle_rad: float = math.nan,
+                 supply_pa: float = math.nan, method: str = 'fixed'):
+        from ..model import Model, Stepper, initial_state
+        self.model = Model(model_config)
+        self.period_s = float(period_s)
+        ps = None if not math.isfinite(supply_pa) else float(supply_pa)
+        angle = None if not math.isfinite(initial_angle_rad) else float(initial_angle_rad)
+        x0 = initial_state(self.model, angle_rad=angle, supply_pa=ps)
+        self.stepper = Stepper(self.model, period_s=self.period_s, x0=x0, supply_pa=ps,
+                               method=method)
+        # compile the kernels now (seconds with numba), not in the first real-time period
+        Stepper(self.model, period_s=self.period_s, x0=x0, supply_pa=ps, method=method).step(5.0)
+        self._k = torque_of(model_config)
+        effects = ', '.join(model_config.effects) or 'none'
+        self.description = f'simulated plant (model effects: {effects})'
+        self.t = 0.0
+
+    def _measure(self, x) -> Measurement:
+        return Measurement(self.t, x[0], x[1], x[2], x[3], self.stepper.supply_pa, x[4], x[5],
+                           self._k * (x[2] - x[3]))
+
+    def start(self) -> Measurement:
+        return self._measure(self.stepper.x)
+
+    def step(self, command_v: float) -> Measurement:
+        x = self.stepper.step(command_v)
+        self.t = self.stepper.t
+        return self._measure(x)
+
+
+class RigBackend(Backend):
+    """A rig through :class:`~pneumatic_servo.rig.RigIO` and a DAQ driver."""
+
+    kind = 'rig'
+
+    def __init__(self, rig_config, daq: str, period_s: float, model_config=None,
+                 initial_angle_rad: float = math.nan):
+        from ..rig import RigIO, make_driver
+        self.period_s = float(period_s)
+        angle = None if not math.isfinite(initial_angle_rad) else initial_angle_rad
+        driver = make_driver(rig_config, daq, self.period_s, model=model_config,
+                             initial_angle_rad=angle)
+        self.io = RigIO(rig_config, driver, self.period_s)
+        self._k = torque_of(model_config) if model_config is not None else math.nan
+        self.description = driver.description
+        self.t = 0.0
+
+    def _read(self) -> Measurement:
+        m = self.io.read(self.t)
+        m.effort_n_m = self._k * (m.p_a_pa - m.p_b_pa)
+        return m
+
+    def start(self) -> Measurement:
+        self.io.write(self.io.config.valve.safe_v)
+        return self._read()
+
+    def apply(self, command_v: float) -> None:
+        self.io.write(command_v)
+
+    def step(self, command_v: float) -> Measurement:
+        self.io.write(command_v)
+        self.t += self.period_s
+        return self._read()
+
+    def safe(self) -> None:
+        self.io.safe()
+
+    def close(self) -> None:
+        self.io.close()
+
+
+# ------------------------------------------------------------------------------- replay
+@dataclass
+class ReplayEvent:
+    """One recorded measurement message: its time [ns], topic and fields."""
+
+    t_ns: int
+    topic: str
+    value: float
+    velocity: float = math.nan
+    effort: float = math.nan
+
+
+REPLAY_TOPICS = ('joint_states', 'chamber_a/pressure', 'chamber_b/pressure', 'supply/pressure',
+                 'chamber_a/temperature', 'chamber_b/temperature')
+
+
+def _relative(topic: str) -> str:
+    """The interface name a bag topic ends with ('/robot/joint_states' -> 'joint_states')."""
+    for name in REPLAY_TOPICS:
+        if topic == name or topic.endswith('/' + name):
+            return name
+    return ''
+
+
+def read_replay_events(path, joint_name: str) -> list[ReplayEvent]:
+    """The measurements of a rosbag2 (sqlite3 or MCAP), in time order.
+
+    Times are the messages' ``header.stamp`` (the measurement time), or the
+    record time when a stamp is zero. Raises ExperimentError with the fix.
+    """
+    from rosbags.highlevel import AnyReader
+    from rosbags.typesys import Stores, get_typestore
+    path = Path(path)
+    if not path.exists():
+        raise ExperimentError(f'bag {path} does not exist; give the bag directory with bag:=PATH')
+    store = get_typestore(Stores.ROS2_JAZZY)
+    events: list[ReplayEvent] = []
+    try:
+        with AnyReader([path], default_typestore=store) as reader:
+            conns = [c for c in reader.connections if _relative(c.topic)]
+            if not any(_relative(c.topic) == 'joint_states' for c in conns):
+                raise ExperimentError(f'bag {path} has no joint_states topic; record '
+                                      f'{", ".join(REPLAY_TOPICS)}')
+            for conn, t_rec, raw in reader.messages(connections=conns):
+                msg = reader.deserialize(raw, conn.msgtype)
+                topic = _relative(conn.topic)
+                t_ns = msg.header.stamp.sec * 1_000_000_000 + msg.header.stamp.nanosec or t_rec
+                if topic == 'joint_states':
+                    names = list(msg.name)
+                    if joint_name in names:
+                        i = names.index(joint_name)
+                    elif len(msg.position) == 1:
+                        i = 0
+                    else:
+                        continue
+                    vel = msg.velocity[i] if len(msg.velocity) > i else math.nan
+                    eff = msg.effort[i] if len(msg.effort) > i else math.nan
+                    events.append(ReplayEvent(t_ns, topic, float(msg.position[i]), float(vel),
+                                              float(eff)))
+                elif topic.endswith('pressure'):
+                    events.append(ReplayEvent(t_ns, topic, float(msg.fluid_pressure)))
+                else:
+                    events.append(ReplayEvent(t_ns, topic, float(msg.temperature)))
+    except ExperimentError:
+        raise
+    except Exception as exc:  # rosbags raises its own types for unreadable bags
+        raise ExperimentError(f'cannot read bag {path}: {exc}'.splitlines()[0]) from None
+    if not events:
+        raise ExperimentError(f'bag {path} has no measurements of joint {joint_name!r}')
+    # stable sort: messages of one sample keep their recorded order (joint_states last)
+    order = {t: i for i, t in enumerate(REPLAY_TOPICS[1:] + REPLAY_TOPICS[:1])}
+    events.sort(key=lambda e: (e.t_ns, order[e.topic]))
+    return events
+
+
+class ReplaySource:
+    """Walks a bag's measurement events in their own time, ``rate`` times real time."""
+
+    kind = 'replay'
+
+    def __init__(self, path, joint_name: str, rate: float = 1.0, loop: bool = False):
+        if not rate > 0:
+            raise ConfigError(f'replay_rate = {rate!r} must be > 0')
+        self.path = Path(path)
+        self.events = read_replay_events(path, joint_name)
+        self.rate, self.loop = float(rate), bool(loop)
+        self.description = f'replay of {self.path.name} ({len(self.events)} measurements)'
+        self.t0_ns = self.events[0].t_ns
+        self.duration_ns = self.events[-1].t_ns - self.t0_ns
+        self.index = 0
+        self.laps = 0
+
+    @property
+    def finished(self) -> bool:
+        return self.index >= len(self.events) and not self.loop
+
+    def next_offset_s(self) -> float:
+        """Wall seconds from the start of the current lap to the next event; 0 at the end
+        (the caller then finishes or starts the next lap)."""
+        if self.index >= len(self.events):
+            return 0.0
+        return (self.events[self.index].t_ns - self.t0_ns) / 1e9 / self.rate
+
+    def due(self, offset_s: float) -> list[ReplayEvent]:
+        """Events due by ``offset_s`` wall seconds into the current lap."""
+        out = []
+        while self.index < len(self.events):
+            e = self.events[self.index]
+            if (e.t_ns - self.t0_ns) / 1e9 / self.rate > offset_s:
+                break
+            out.append(e)
+            self.index += 1
+        return out
+
+    def lap_offset_ns(self) -> int:
+        """Shift added to recorded stamps on repeated laps, so time never runs backwards."""
+        return self.laps * (self.duration_ns + 1_000_000)

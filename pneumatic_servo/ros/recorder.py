@@ -1,0 +1,185 @@
+"""Record the interface topics to a rosbag2 with ``rosbags`` (sqlite3 or MCAP).
+
+Messages are taken serialized (CDR, exactly as on the wire) and written as
+they are, with the record time of the node's clock (sim time with
+``use_sim_time``). The bag is a standard rosbag2 directory: ``metadata.yaml``
+version 9 with each topic's type, type-description hash (RIHS01, which must
+match what ROS 2 Jazzy computes) and the publishers' offered QoS, so
+``ros2 bag info/play`` on a ROS install read it as they read their own.
+``custom_data`` carries ``pneumatic_servo.circuit: servo``.
+"""
+from __future__ import annotations
+
+import math
+import time
+from pathlib import Path
+
+from rclpy.node import Node
+from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
+
+from ..errors import ConfigError
+from . import common
+
+#: topics recorded by default (relative: a namespace moves them)
+DEFAULT_TOPICS = (common.JOINT_STATES, common.PRESSURE_A, common.PRESSURE_B,
+                  common.PRESSURE_SUPPLY, common.TEMPERATURE_A, common.TEMPERATURE_B,
+                  common.COMMAND, common.SETPOINT)
+STORAGES = ('sqlite3', 'mcap')
+#: reliable topics (commands, setpoints); the rest are sensor data (best effort)
+RELIABLE = (common.COMMAND, common.SETPOINT)
+
+
+def _typestore():
+    from rosbags.typesys import Stores, get_typestore
+    return get_typestore(Stores.ROS2_JAZZY)
+
+
+def bag_qos(reliable: bool):
+    """The offered QoS written to the metadata: what the plant and controller offer."""
+    from rosbags.interfaces import (
+        Qos,
+        QosDurability,
+        QosHistory,
+        QosLiveliness,
+        QosReliability,
+        QosTime,
+    )
+    return Qos(QosHistory.KEEP_LAST, 10 if reliable else 5,
+               QosReliability.RELIABLE if reliable else QosReliability.BEST_EFFORT,
+               QosDurability.VOLATILE, QosTime(0, 0), QosTime(0, 0), QosLiveliness.AUTOMATIC,
+               QosTime(0, 0), False)
+
+
+class RecorderNode(Node):
+    """Writes ``topics`` to the bag ``out`` until :meth:`close` (or ``duration_s`` of its clock).
+
+    Parameters
+    ----------
+    out : path
+        New bag directory (must not exist).
+    storage : str
+        'sqlite3' (default) or 'mcap'.
+    duration_s : float [s]
+        Stop after this long on the node's clock, from the first message (inf: until closed).
+    """
+
+    def __init__(self, out, storage: str = 'sqlite3', duration_s: float = math.inf,
+                 topics=DEFAULT_TOPICS, node_name: str = 'pneumatic_servo_recorder', **kwargs):
+        super().__init__(node_name, **kwargs)
+        from rosbags.rosbag2 import StoragePlugin, Writer
+        if storage not in STORAGES:
+            raise ConfigError(f'storage {storage!r}: use one of {", ".join(STORAGES)}')
+        self.out = Path(out)
+        if self.out.exists():
+            raise ConfigError(f'{self.out} exists; record into a new directory')
+        if not self.out.parent.exists():
+            raise ConfigError(f'parent directory {self.out.parent} does not exist')
+        plugin = StoragePlugin.SQLITE3 if storage == 'sqlite3' else StoragePlugin.MCAP
+        self.writer = Writer(self.out, version=9, storage_plugin=plugin)
+        self.writer.set_custom_data('pneumatic_servo.circuit', 'servo')
+        self.writer.set_custom_data('pneumatic_servo.recorder', 'pneumatic-servo record')
+        self.writer.open()
+        store = _typestore()
+        self.duration_s = duration_s
+        self.counts = {}
+        self._first = None
+        self.done = False
+        # with use_sim_time the clock is hot and first: a message is stamped with the sim
+        # time of the sample it belongs to, not with a clock updated a few periods late
+        clock_sub = getattr(getattr(self, '_time_source', None), '_clock_sub', None)
+        self.hot_subscriptions = [clock_sub] if clock_sub is not None else []
+        for topic in topics:
+            if topic not in common.TOPIC_TYPES:
+                raise ConfigError(f'cannot record {topic!r}: known topics are '
+                                  f'{", ".join(common.TOPIC_TYPES)}')
+            msgtype = common.TOPIC_TYPES[topic]
+            full = self.resolve_topic_name(topic)
+            reliable = topic in RELIABLE
+            conn = self.writer.add_connection(full, msgtype, typestore=store,
+                                              offered_qos_profiles=[bag_qos(reliable)])
+            # deep queues: the recorder may lag a burst (lockstep runs faster than real time)
+            qos = QoSProfile(depth=2000, history=HistoryPolicy.KEEP_LAST,
+                             reliability=(ReliabilityPolicy.RELIABLE if reliable
+                                          else ReliabilityPolicy.BEST_EFFORT),
+                             durability=DurabilityPolicy.VOLATILE)
+            cls = _msg_class(msgtype)
+            sub = self.create_subscription(cls, topic, self._writer_cb(conn, full), qos,
+                                           raw=True)
+            self.hot_subscriptions.append(sub)
+            self.counts[full] = 0
+
+    def _writer_cb(self, conn, topic):
+        def cb(data: bytes):
+            if self.done:
+                return
+            now = self.get_clock().now().nanoseconds
+            if self._first is None:
+                self._first = now
+            elif now - self._first > self.duration_s * 1e9:
+                self.done = True
+                return
+            self.writer.write(conn, now, data)
+            self.counts[topic] += 1
+        return cb
+
+    def next_deadline(self) -> float:
+        return math.inf
+
+    def tick(self, now: float) -> None:
+        pass
+
+    def close(self) -> dict:
+        """Finish the bag (writes metadata.yaml); returns message counts by topic."""
+        if self.writer is not None:
+            self.writer.close()
+            self.writer = None
+        return dict(self.counts)
+
+    def shutdown(self, reason: str) -> None:
+        self.close()
+
+
+def _msg_class(msgtype: str):
+    pkg, _, name = msgtype.split('/')
+    import importlib
+    return getattr(importlib.import_module(f'{pkg}.msg'), name)
+
+
+def record(out, duration_s: float, storage: str = 'sqlite3', topics=DEFAULT_TOPICS,
+           use_sim_time: bool = False, args=None, wait_s: float = 30.0) -> dict:
+    """Record ``duration_s`` seconds from the first message (wall seconds, or node-clock
+    seconds with sim time); wait up to ``wait_s`` for that first message. Returns
+    ``{'bag': path, 'counts': {...}, 'stopped': why}``. Initialises and shuts down rclpy."""
+    from rclpy.parameter import Parameter
+
+    from .loop import STOP, EventLoop, install_stop_handlers
+    from .run import init_ros, shutdown_ros
+    install_stop_handlers()
+    init_ros(args)
+    rec = None
+    try:
+        overrides = [Parameter('use_sim_time', value=True)] if use_sim_time else []
+        rec = RecorderNode(out, storage, duration_s if use_sim_time else math.inf, topics,
+                           parameter_overrides=overrides)
+        loop = EventLoop([rec])
+        loop.install_signal_handlers()
+        start = time.monotonic()
+        first = None
+        while not loop.stop_reason and not rec.done:
+            loop.spin_once(0.01)
+            now = time.monotonic()
+            if first is None:
+                if rec._first is not None:
+                    first = now
+                elif now - start > wait_s:
+                    loop.stop(f'no message on {", ".join(topics)} within {wait_s:g} s')
+            elif not use_sim_time and now - first >= duration_s:
+                break
+        counts = rec.close()
+        return {'bag': str(out), 'counts': counts,
+                'stopped': loop.stop_reason or STOP.reason or 'duration'}
+    finally:
+        if rec is not None:
+            rec.close()
+            rec.destroy_node()
+        shutdown_ros()

@@ -1,0 +1,150 @@
+"""Running the nodes without ``ros2 launch``: one process or two, safe on every exit path.
+
+``main()`` style: ``rclpy.init()`` with try/finally ``rclpy.shutdown()`` (the
+``with rclpy.init()`` form does not work on Jazzy). rclpy's own signal
+handlers are not installed: SIGINT/SIGTERM stop the event loop instead, so
+the plant can still write the safe valve voltage and publish its last
+diagnostics before the context goes away.
+"""
+from __future__ import annotations
+
+import math
+import os
+import signal
+import subprocess
+import sys
+import time
+
+import rclpy
+from rclpy.parameter import Parameter
+from rclpy.signals import SignalHandlerOptions
+
+from ..errors import ConfigError, PneumaticServoError
+from .loop import EventLoop
+
+
+def init_ros(args=None) -> None:
+    """``rclpy.init`` without rclpy's signal handlers (the event loop handles signals)."""
+    rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO)
+
+
+def shutdown_ros() -> None:
+    rclpy.try_shutdown()
+
+
+def _sim_time(on: bool):
+    return [Parameter('use_sim_time', value=True)] if on else []
+
+
+def make_plant(overrides: dict, namespace: str = ''):
+    from .plant_node import PlantNode
+    return PlantNode(overrides=overrides, namespace=namespace)
+
+
+def make_controller(overrides: dict, use_sim_time: bool = False, namespace: str = ''):
+    from .controller_node import ControllerNode
+    return ControllerNode(overrides=overrides, namespace=namespace,
+                          parameter_overrides=_sim_time(use_sim_time))
+
+
+def run_nodes(factories, duration_s: float = math.inf, ros_args=None, on_ready=None) -> str:
+    """Create nodes from ``factories`` (callables), run them in one event loop until a signal
+    or ``duration_s`` [wall s]; then shut every node down safely. Returns why it stopped."""
+    from .loop import STOP, install_stop_handlers
+    install_stop_handlers()
+    init_ros(ros_args)
+    nodes = []
+    loop = None
+    try:
+        for make in factories:
+            nodes.append(make())
+            if STOP.reason:
+                break
+        loop = EventLoop(nodes)
+        loop.install_signal_handlers()
+        if on_ready is not None:
+            on_ready(nodes)
+        try:
+            reason = loop.run(until=time.monotonic() + duration_s)
+        except Exception as exc:  # noqa: BLE001 - every failure ends with the valve safe
+            reason = f'exception: {type(exc).__name__}: {exc}'
+            for n in nodes:
+                n.get_logger().error(reason)
+        loop.shutdown(reason)
+        return reason
+    except BaseException:
+        if loop is None:  # failed while building: whatever exists goes safe
+            for n in reversed(nodes):
+                fn = getattr(n, 'shutdown', None)
+                if fn is not None:
+                    try:
+                        fn('start-up failed')
+                    except Exception:
+                        pass
+        raise
+    finally:
+        for n in reversed(nodes):
+            try:
+                n.destroy_node()
+            except Exception:
+                pass
+        shutdown_ros()
+
+
+def controller_command(controller_overrides: dict, use_sim_time: bool, ros_args=None) -> list:
+    """argv that runs the controller node alone in a new process."""
+    cmd = [sys.executable, '-c',
+           'import sys; from pneumatic_servo.cli import main; sys.exit(main(sys.argv[1:]))',
+           'controller']
+    for k, v in controller_overrides.items():
+        cmd += ['--set', f'{k}={v}']
+    if use_sim_time:
+        cmd.append('--use-sim-time')
+    if ros_args:
+        cmd += ['--ros-args'] + [a for a in ros_args if a != '--ros-args']
+    return cmd
+
+
+def run_up(plant: dict, controller: dict, processes: int = 1, duration_s: float = math.inf,
+           ros_args=None, record: str = '', storage: str = 'sqlite3') -> int:
+    """Plant and controller (and optionally a recorder) without ``ros2 launch``.
+
+    With ``processes=2`` the controller runs in a child process (its death is then
+    seen by the plant's watchdog); SIGINT/SIGTERM are passed on to it.
+    """
+    if processes not in (1, 2):
+        raise ConfigError('--processes must be 1 or 2')
+    use_sim_time = plant.get('clock_mode') == 'lockstep'
+    factories = [lambda: make_plant(plant)]
+    if record:
+        from .recorder import RecorderNode
+        factories.append(lambda: RecorderNode(record, storage,
+                                              parameter_overrides=_sim_time(use_sim_time)))
+    child = None
+    if processes == 1:
+        factories.append(lambda: make_controller(controller, use_sim_time))
+    else:
+        child = subprocess.Popen(controller_command(controller, use_sim_time, ros_args))
+    try:
+        reason = run_nodes(factories, duration_s, ros_args)
+    finally:
+        if child is not None and child.poll() is None:
+            child.send_signal(signal.SIGTERM)
+            try:
+                child.wait(timeout=5)
+            except subprocess.TimeoutExpired:
+                child.kill()
+    return 0 if reason in ('time up', 'SIGINT', 'SIGTERM') else 1
+
+
+def exit_code(reason: str) -> int:
+    return 0 if reason in ('time up', 'SIGINT', 'SIGTERM') else 1
+
+
+def guard(fn, *args, **kwargs) -> int:
+    """Run ``fn``; a PneumaticServoError becomes one line and exit 2 (for console scripts)."""
+    try:
+        return int(fn(*args, **kwargs) or 0)
+    except PneumaticServoError as exc:
+        print(f'{os.path.basename(sys.argv[0])}: error: {exc}', file=sys.stderr)
+        return 2

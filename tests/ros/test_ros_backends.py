@@ -1,0 +1,218 @@
+"""Backends over real DDS: sim, rig (virtual DAQ) and replay present the same graph (topic
+names, types) and rates; the recorder writes a standard rosbag2; replay republishes a bag
+in its own time; the whole rig path (volts, counts, counter wrap, faults) runs on the
+virtual DAQ."""
+import math
+import time
+
+import numpy as np
+import pytest
+import yaml
+from rostest_helpers import level
+from std_msgs.msg import Float64
+
+from pneumatic_servo.ros.paths import find_config
+
+PLANT = 'pneumatic_servo_plant'
+MEASUREMENTS = ('joint_states', 'chamber_a/pressure', 'chamber_b/pressure', 'supply/pressure',
+                'chamber_a/temperature', 'chamber_b/temperature')
+
+
+def rig_yaml(tmp_path, **changes) -> str:
+    """The shipped rig config with temperature transmitters wired and ``changes`` applied."""
+    data = yaml.safe_load(find_config('rig_pci6229.yaml').read_text())
+    for name, ch in (('temperature_a', 'ai3'), ('temperature_b', 'ai4')):
+        data[name] = {'channel': ch, 'volts_lo': 1.0, 'volts_hi': 5.0, 'value_lo': 0.0,
+                      'value_hi': 260.0, 'fault_below_v': 0.5, 'fault_above_v': 5.5}
+    for key, value in changes.items():
+        if isinstance(value, dict):
+            data[key].update(value)
+        else:
+            data[key] = value
+    path = tmp_path / 'rig.yaml'
+    path.write_text(yaml.safe_dump(data))
+    return str(path)
+
+
+def plant_graph(probe) -> set:
+    """(topic, type) published by the plant node."""
+    t = time.monotonic()
+    probe.wait_diag('plant', lambda s, v: v['state'] in ('active', 'finished'), 60.0, t,
+                    'plant active')
+    pubs = []
+
+    def discovered():
+        try:
+            pubs[:] = probe.node.get_publisher_names_and_types_by_node(PLANT, '/')
+        except Exception:  # the graph cache may lag the first messages
+            return False
+        return len(pubs) >= len(MEASUREMENTS) + 1
+    probe.spin_until(discovered, 30.0, 'plant publishers in the graph')
+    probe.spin(0.5)
+    pubs[:] = probe.node.get_publisher_names_and_types_by_node(PLANT, '/')
+    return {(name, tuple(types)) for name, types in pubs
+            if name not in ('/rosout', '/parameter_events')}
+
+
+def rates(probe, seconds: float = 1.5) -> dict:
+    """Per measurement topic: (nominal rate [1/s] from the median stamp interval, mean rate
+    of what arrived [1/s]) over a window."""
+    probe.joint.clear()
+    probe.topics.clear()
+    probe.spin(seconds)
+    out = {}
+    series = {'joint_states': [j[0] for j in probe.joint]}
+    series.update({k: [x[0] for x in v] for k, v in probe.topics.items()})
+    for topic in MEASUREMENTS:
+        st = np.array(sorted(series.get(topic, [])))
+        out[topic] = ((1.0 / np.median(np.diff(st)), (len(st) - 1) / (st[-1] - st[0]))
+                      if len(st) > 10 else (0.0, 0.0))
+    return out
+
+
+def test_backend_switch_same_graph_and_rates_and_recorder(procs, probe, tmp_path):
+    graphs, measured = {}, {}
+    # sim, recorded meanwhile by two recorder processes (sqlite3 and MCAP)
+    plant = procs.start('plant', name='sim')
+    graphs['sim'] = plant_graph(probe)
+    rec = procs.start('record', tmp_path / 'bag', '--duration', '2.0', name='record')
+    rec_mcap = procs.start('record', tmp_path / 'bag_mcap', '--duration', '1.0', '--storage',
+                           'mcap', name='record_mcap')
+    probe.spin(1.0)
+    measured['sim'] = rates(probe)
+    assert rec.wait(30) == 0, procs.log(rec)
+    assert rec_mcap.wait(30) == 0, procs.log(rec_mcap)
+    hashes = {t: str(probe.node.get_publishers_info_by_topic('/' + t)[0].topic_type_hash)
+              for t in MEASUREMENTS}
+    assert procs.stop(plant) == 0
+
+    # rig through the virtual DAQ, temperature transmitters wired
+    plant = procs.start('plant', '--backend', 'rig', '--daq', 'virtual', '--rig-config',
+                        rig_yaml(tmp_path), name='rig')
+    graphs['rig'] = plant_graph(probe)
+    measured['rig'] = rates(probe)
+    assert procs.stop(plant) == 0
+
+    # replay of the bag just recorded
+    plant = procs.start('plant', '--backend', 'replay', '--bag', tmp_path / 'bag',
+                        '--set', 'replay_loop=true', name='replay')
+    graphs['replay'] = plant_graph(probe)
+    measured['replay'] = rates(probe)
+    assert procs.stop(plant) == 0
+
+    assert graphs['sim'] == graphs['rig'] == graphs['replay']
+    topics = {name for name, _ in graphs['sim']}
+    assert {'/' + t for t in MEASUREMENTS} | {'/diagnostics'} <= topics
+    assert '/clock' not in topics
+    for topic in MEASUREMENTS:
+        nominal = [measured[b][topic][0] for b in ('sim', 'rig', 'replay')]
+        assert all(abs(r - 1000.0) < 20.0 for r in nominal), (topic, measured)
+        # what arrives: the loops keep up on a shared 2-core machine, give or take
+        assert all(measured[b][topic][1] > 700.0 for b in measured), (topic, measured)
+
+    # the recorded bags: standard rosbag2 metadata, hashes as ROS computes them, readable
+    from rosbags.highlevel import AnyReader
+    for bag, storage in ((tmp_path / 'bag', 'sqlite3'), (tmp_path / 'bag_mcap', 'mcap')):
+        meta = yaml.safe_load((bag / 'metadata.yaml').read_text())['rosbag2_bagfile_information']
+        assert meta['version'] == 9 and meta['storage_identifier'] == storage
+        assert meta['custom_data']['pneumatic_servo.circuit'] == 'servo'
+        info = {t['topic_metadata']['name']: t for t in meta['topics_with_message_count']}
+        for topic in MEASUREMENTS:
+            tm = info['/' + topic]['topic_metadata']
+            assert tm['type_description_hash'] == hashes[topic]
+            assert 'best_effort' in str(tm['offered_qos_profiles']).lower() or \
+                'reliability: 2' in str(tm['offered_qos_profiles'])
+        n_js = info['/joint_states']['message_count']
+        duration = 2.0 if storage == 'sqlite3' else 1.0
+        assert n_js > 0.6 * duration * 1000  # a Python recorder on a shared machine
+        with AnyReader([bag]) as reader:
+            counted = sum(1 for c, _, _ in reader.messages() if c.topic == '/joint_states')
+        assert counted == n_js
+
+
+def make_bag(path, storage='mcap', n=150, dt=0.01):
+    """A small bag written with rosbags itself: a ramp of the angle and pressures."""
+    from rosbags.rosbag2 import StoragePlugin, Writer
+    from rosbags.typesys import Stores, get_typestore
+    store = get_typestore(Stores.ROS2_JAZZY)
+    JS = store.types['sensor_msgs/msg/JointState']
+    FP = store.types['sensor_msgs/msg/FluidPressure']
+    Header, Time = store.types['std_msgs/msg/Header'], store.types['builtin_interfaces/msg/Time']
+    plugin = StoragePlugin.MCAP if storage == 'mcap' else StoragePlugin.SQLITE3
+    t0 = 1_700_000_000_000_000_000
+    rows = []
+    with Writer(path, version=9, storage_plugin=plugin) as w:
+        cj = w.add_connection('/joint_states', 'sensor_msgs/msg/JointState', typestore=store)
+        cp = w.add_connection('/chamber_a/pressure', 'sensor_msgs/msg/FluidPressure',
+                              typestore=store)
+        for k in range(n):
+            ns = t0 + int(k * dt * 1e9)
+            hdr = Header(stamp=Time(sec=ns // 10**9, nanosec=ns % 10**9), frame_id='')
+            angle = 0.5 + 0.01 * k
+            js = JS(header=hdr, name=['actuator_joint'], position=np.array([angle]),
+                    velocity=np.array([1.0]), effort=np.array([]))
+            fp = FP(header=hdr, fluid_pressure=2e5 + 100.0 * k, variance=0.0)
+            w.write(cp, ns, store.serialize_cdr(fp, FP.__msgtype__))
+            w.write(cj, ns + 1000, store.serialize_cdr(js, JS.__msgtype__))
+            rows.append((ns, angle, 2e5 + 100.0 * k))
+    return rows
+
+
+def test_replay_of_a_bag_with_a_controller(procs, probe, tmp_path):
+    rows = make_bag(tmp_path / 'small')
+    ctrl = procs.start('controller', name='controller')
+    probe.spin_until(lambda: 'pneumatic_servo_controller' in probe.node.get_node_names(), 60.0,
+                     'controller')
+    probe.spin(0.5)
+    t_start = time.monotonic()
+    plant = procs.start('plant', '--backend', 'replay', '--bag', tmp_path / 'small',
+                        '--set', 'wait_subscribers=2', name='replay')
+    probe.wait_diag('plant', lambda s, v: v['state'] == 'finished', 60.0, what='replay end')
+    got = {j[4]: (j[1], j[2]) for j in probe.joint}
+    # every sample, its recorded stamp and values (best effort on loopback: allow a loss)
+    hits = [ns for ns, _, _ in rows if ns in got]
+    assert len(hits) >= 0.95 * len(rows), (len(probe.joint), probe.joint[:2], procs.log(plant))
+    for ns, angle, _ in rows:
+        if ns in got:
+            assert got[ns][0] == pytest.approx(angle, abs=1e-12) and got[ns][1] == 1.0
+    pa = {x[3]: x[1] for x in probe.topics['chamber_a/pressure']}
+    assert all(pa[ns] == pytest.approx(p) for ns, _, p in rows if ns in pa)
+    # in its own time: 1.5 s of recording takes about 1.5 s
+    recv = np.array([j[3] for j in probe.joint])
+    assert 1.2 < recv[-1] - recv[0] < 2.5
+    # the controller ran against the recording
+    assert len(probe.commands) >= 0.9 * len(rows)
+    assert all(math.isfinite(c) for _, c in probe.commands)
+    assert ctrl.poll() is None
+    assert procs.stop(plant) == 0
+    assert time.monotonic() - t_start < 60
+
+
+def test_rig_path_on_the_virtual_daq(procs, probe, tmp_path):
+    # the counter wraps at 90 deg (zero count 20000 below 2**32); an open wire at 4 s
+    cfg = rig_yaml(tmp_path, encoder={'zero_count': 2**32 - 20000},
+                   virtual={'seed': 3, 'initial_angle_rad': math.radians(40.0),
+                            'faults': [{'at_s': 4.0, 'kind': 'open_wire',
+                                        'channel': 'chamber_b'}]})
+    plant = procs.start('plant', '--backend', 'rig', '--daq', 'virtual', '--rig-config', cfg,
+                        name='rig')
+    procs.start('controller', name='controller')
+    probe.wait_diag('plant', lambda s, v: s.message == 'commanding', 60.0, what='loop')
+    target = math.radians(150.0)
+    probe.send(probe.setpoint_pub, Float64(data=target))
+    probe.spin(1.5)
+    tail = [j[1] for j in probe.joint[-200:]]
+    assert abs(np.mean(tail) - target) < math.radians(1.0), math.degrees(np.mean(tail))
+    # quantised like the card: an encoder count and a 16-bit ADC step
+    count = 2 * math.pi / 80000
+    assert all(abs(a / count - round(a / count)) < 1e-6 for a in tail)
+    pa = [x[1] for x in probe.topics['chamber_a/pressure'][-200:]]
+    assert 1.0e5 < min(pa) and max(pa) < 7.2e5 and np.std(pa) > 0  # noisy, in range
+    ta = [x[1] for x in probe.topics['chamber_a/temperature'][-50:]]
+    assert all(-30.0 < v < 80.0 for v in ta)
+    # the open wire: the plant halts, valve at 5 V, fault on /diagnostics
+    st = probe.wait_diag('plant', lambda s, v: level(s) == 2, 15.0, what='sensor fault')
+    assert 'open wire' in st.message and 'chamber_b' in st.message
+    assert float(probe.diag_values(st)['output_v']) == 5.0
+    assert probe.diag_values(st)['state'] == 'halted'
+    assert plant.poll() is None
