@@ -61,7 +61,8 @@ PLANT_SPECS = SpecSet([
     Spec('frame_id', '', 'header.frame_id of the measurements', read_only=True),
     Spec('model_config', '', "model config YAML ('' = the paper's rig); sim plant, virtual "
          'DAQ and the effort (A d_f (p_a - p_b))', read_only=True),
-    Spec('integrator', 'fixed', 'sim: fixed-step RK4 (constant cost) or adaptive',
+    Spec('integrator', 'adaptive', 'sim: adaptive (error-controlled, work-capped: default) or '
+         'fixed-step RK4 (constant cost)',
          choices=('fixed', 'adaptive'), read_only=True),
     Spec('initial_angle_rad', math.nan, 'sim and virtual DAQ: start angle', 'rad', 0.0, 6.5,
          read_only=True, allow_nan=True),
