@@ -197,9 +197,10 @@ def _stribeck_hook(t, x, s, p, P, c, dx):
     c[C_FKIN] += arm * stribeck_force(x[OMEGA], p[0], p[1], p[2], p[3])
     c[C_FBRK_POS] += arm * p[0]
     c[C_FBRK_NEG] += arm * p[0]
-    edge = arm * stribeck_force(P[K_ALPHA], p[0], p[1], p[2], p[3])
-    c[C_FEDGE_POS] += edge
-    c[C_FEDGE_NEG] += edge
+    if abs(x[OMEGA]) <= P[K_ALPHA]:  # the band edge matters only inside the band
+        edge = arm * stribeck_force(P[K_ALPHA], p[0], p[1], p[2], p[3])
+        c[C_FEDGE_POS] += edge
+        c[C_FEDGE_NEG] += edge
 
 
 class StribeckFriction(Component):
@@ -232,9 +233,10 @@ def _coulomb_viscous_hook(t, x, s, p, P, c, dx):
     c[C_FKIN] += arm * coulomb_viscous_force(x[OMEGA], p[0], p[1])
     c[C_FBRK_POS] += arm * p[0]
     c[C_FBRK_NEG] += arm * p[0]
-    edge = arm * coulomb_viscous_force(P[K_ALPHA], p[0], p[1])
-    c[C_FEDGE_POS] += edge
-    c[C_FEDGE_NEG] += edge
+    if abs(x[OMEGA]) <= P[K_ALPHA]:
+        edge = arm * coulomb_viscous_force(P[K_ALPHA], p[0], p[1])
+        c[C_FEDGE_POS] += edge
+        c[C_FEDGE_NEG] += edge
 
 
 class CoulombViscousFriction(Component):

@@ -54,7 +54,8 @@ def clearance_flow(spool_diameter, gap_height, length, p1, t1, p2, t2, viscosity
     (Eq. 17): m = pi d_s h0^3 p_d (p_u - p_d) / (12 mu L R T_u), density from
     the downstream pressure and the upstream temperature, as the paper writes it.
     """
-    k = math.pi * spool_diameter * gap_height ** 3 / (12.0 * viscosity * length * gas_constant)
+    k = math.pi * spool_diameter * gap_height * gap_height * gap_height \
+        / (12.0 * viscosity * length * gas_constant)
     if p1 >= p2:
         return k * p2 * (p1 - p2) / t1
     return -k * p1 * (p2 - p1) / t2
