@@ -45,7 +45,7 @@ from ..effects.layout import (
 )
 from .measurement import Measurement
 from .params import Spec, SpecSet
-from .pid import PID_SPECS, VelocityEstimator
+from .pid import PID_SPECS, ControlLaw
 from .reference import Reference
 
 
@@ -67,7 +67,7 @@ SMC_SPECS = SpecSet([
 ], cross=_cross)
 
 
-class SlidingModeController:
+class SlidingModeController(ControlLaw):
     """Sliding-mode position control with valve inversion through ``model``.
 
     Parameters
@@ -85,9 +85,8 @@ class SlidingModeController:
 
     def __init__(self, model, supply_pa: float | None = None, **params):
         from ..model.simulate import initial_state  # the model layer, imported when used
+        super().__init__(**params)
         self.model = model
-        self.p = self.specs.defaults()
-        self.configure(params)
         core = model.config.core
         self.supply_pa = core['supply_pressure_pa'] if supply_pa is None else supply_pa
         self.room_k = core['room_temperature_k']
@@ -101,22 +100,10 @@ class SlidingModeController:
         # total inertia as the core computes it (pistons, gear and any payload effect)
         self._rhs(0.0, self._x, 5.0, self.supply_pa, self._P, SERVO, self._c, self._dx)
         self.inertia = float(self._c[C_INERTIA])
-        self.velocity = VelocityEstimator(self.p['velocity_filter_s'])
-        self.reset()
-
-    def configure(self, values: dict) -> None:
-        for k, v in values.items():
-            if k in self.specs:
-                self.p[k] = self.specs[k].coerce(v)
-        if hasattr(self, 'velocity'):
-            self.velocity.tau_s = self.p['velocity_filter_s']
 
     def reset(self) -> None:
-        self.integral = 0.0
-        self._t = None
+        super().reset()
         self._acc_prev = None
-        self.velocity.reset()
-        self.last = {}
 
     def _state(self, m: Measurement, omega: float) -> np.ndarray:
         x = self._x
@@ -141,7 +128,7 @@ class SlidingModeController:
             raise ValueError('the model-based controller needs both chamber pressures')
         dt = 0.0 if self._t is None else max(t - self._t, 0.0)
         self._t = t
-        omega = self.velocity.update(m.t_s, m.angle_rad, m.velocity_rad_s)
+        omega = self.omega(m)
         ps = m.supply_pa if math.isfinite(m.supply_pa) else self.supply_pa
         x = self._state(m, omega)
         lam = p['smc_lambda']

@@ -92,15 +92,16 @@ class VelocityEstimator:
         return self.value
 
 
-class PidController:
-    """PID + feed-forward + friction compensation; ``update`` once per measurement.
+class ControlLaw:
+    """What every control law shares: its parameter values, a velocity estimate, reset.
 
-    Parameters are the names of :data:`PID_SPECS`; unknown names are ignored
-    so one parameter mapping can configure several controllers.
+    Subclasses set ``name`` and ``specs`` (a :class:`~.params.SpecSet`) and
+    implement ``update(t, ref, m) -> command [V]``. Unknown parameter names are
+    ignored, so one parameter mapping can configure several laws.
     """
 
-    name = 'pid'
-    specs = PID_SPECS
+    name = ''
+    specs = None
 
     def __init__(self, **params):
         self.p = self.specs.defaults()
@@ -125,6 +126,16 @@ class PidController:
     def omega(self, m: Measurement) -> float:
         """Filtered angular velocity [rad/s] (see :class:`VelocityEstimator`)."""
         return self.velocity.update(m.t_s, m.angle_rad, m.velocity_rad_s)
+
+
+class PidController(ControlLaw):
+    """PID + feed-forward + friction compensation; ``update`` once per measurement.
+
+    Parameters are the names of :data:`PID_SPECS`.
+    """
+
+    name = 'pid'
+    specs = PID_SPECS
 
     def update(self, t: float, ref: Reference, m: Measurement) -> float:
         """Valve command [V] at ``t`` [s] for reference ``ref`` given measurement ``m``."""
