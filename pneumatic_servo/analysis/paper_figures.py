@@ -25,8 +25,7 @@ import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
-from ..model import Model, ModelConfig
-from ..model import circuits
+from ..model import Model, ModelConfig, circuits
 from ..model.simulate import SimResult
 from ..physics.friction import coulomb_viscous_force, stribeck_force
 from ..physics.valve import flow_coefficient, spool_displacement

@@ -100,14 +100,20 @@ def predict_many(model: Model, exp: Experiment, configs: list[ModelConfig],
     rows_p, rows_u, rows_ps, rows_x0, delays = [], [], [], [], []
     for cfg in configs:
         d_in, d_out = model.delays(cfg)
+        d_ps = 0.0
+        if mode == 'k_step':
+            # a window starts from the *measured* state, which is the physical state d_out
+            # ago; the measurement then evolves as the plant under inputs that much older
+            d_in, d_ps, d_out = d_in + d_out, d_out, 0.0
         u_valve = _delayed(t, u, d_in)
+        ps_valve = _delayed(t, ps, d_ps)
         P = model.param_vector(cfg)
         delays.append(d_out)
         for k0 in starts:
             k1 = min(k0 + win, n)
             seg_u = np.full(win, u_valve[k1 - 1])
-            seg_ps = np.full(win, ps[k1 - 1])
-            seg_u[:k1 - k0], seg_ps[:k1 - k0] = u_valve[k0:k1], ps[k0:k1]
+            seg_ps = np.full(win, ps_valve[k1 - 1])
+            seg_u[:k1 - k0], seg_ps[:k1 - k0] = u_valve[k0:k1], ps_valve[k0:k1]
             rows_p.append(P)
             rows_u.append(seg_u)
             rows_ps.append(seg_ps)
