@@ -16,28 +16,18 @@ from pneumatic_servo._jit import njit
 from pneumatic_servo.effects import CATALOGUE_NAMES, Component, Param
 from pneumatic_servo.effects.layout import C_TORQUE, N_CONTEXT, N_CORE_STATES, THETA
 from pneumatic_servo.errors import ConfigError
-from pneumatic_servo.model import Model, ModelConfig, initial_state, simulate
-from pneumatic_servo.model import circuits
+from pneumatic_servo.model import Model, ModelConfig, circuits, initial_state, simulate
 
 P_E = 101325.0
 SUPPLY = 0.6e6 + P_E
 
-#: each effect's 'off' value; the spool lag and the supply line cannot be zero, so they sit at
-#: a near-ideal value (0.1 ms lag, the widest supply line allowed, ~7x the default)
-NEUTRAL = {
-    'valve_spool_dynamics': {'spool_time_constant_s': 1e-4},
-    'transport_delay': {'command_delay_s': 0.0},
-    'valve_null_offset': {'null_offset_v': 0.0},
-    'valve_null_leakage': {'null_leak_area_m2': 0.0},
-    'supply_pressure_drop': {'supply_line_area_m2': 2e-5},
-    'piston_seal_leakage': {'seal_leak_area_m2': 0.0},
-    'external_leakage': {'leak_area_a_m2': 0.0, 'leak_area_b_m2': 0.0},
-    'external_load_torque': {'load_torque_n_m': 0.0},
-    'payload_inertia': {'payload_inertia_kg_m2': 0.0},
-    'asymmetric_friction': {'extra_negative_friction_n': 0.0},
-    'dead_volume': {'extra_dead_volume_a_m3': 0.0, 'extra_dead_volume_b_m3': 0.0},
-    'sensor_delay': {'measurement_delay_s': 0.0},
-}
+#: each effect's 'off' value: the declared one; the spool lag and the supply line have none,
+#: so they sit at a near-ideal value (0.1 ms lag, the widest supply line allowed, ~7x the
+#: default)
+NEUTRAL = {name: effects.get(name).neutral for name in CATALOGUE_NAMES
+           if effects.get(name).neutral is not None}
+NEUTRAL.update({'valve_spool_dynamics': {'spool_time_constant_s': 1e-4},
+                'supply_pressure_drop': {'supply_line_area_m2': 2e-5}})
 
 
 def _neutral_config():
@@ -325,3 +315,14 @@ def test_user_defined_effect_registers_and_acts_without_editing_the_package():
     assert sprung.angle_rad[-1] < free.angle_rad[-1] - 0.1  # pulled back towards 30 deg
     with pytest.raises(ConfigError, match='outside'):
         ModelConfig.from_dict({'effects': {'test_torsion_spring': {'stiffness_n_m_per_rad': -1}}})
+
+
+@pytest.mark.parametrize('name', [n for n in CATALOGUE_NAMES if effects.get(n).neutral])
+def test_declared_neutral_values_add_exactly_nothing(name):
+    """An effect at its declared ``neutral`` values reproduces the model without it."""
+    t = np.arange(0.0, 0.3, 1e-3)
+    u = 5.0 + 0.8 * np.sin(2 * np.pi * 3 * t)
+    base = simulate(Model(ModelConfig.paper()), t, u)
+    with_it = simulate(Model(ModelConfig.paper().with_effect(name, effects.get(name).neutral)),
+                       t, u)
+    np.testing.assert_array_equal(with_it.states[:, :N_CORE_STATES], base.states)

@@ -846,18 +846,8 @@ def _relative(new: float, old: float) -> float:
 
 # ---------------------------------------------------------------- shared compositions
 #: catalogue effects that add exactly nothing at these values (bit-identical results)
-NEUTRAL = {
-    'transport_delay': {'command_delay_s': 0.0},
-    'valve_null_offset': {'null_offset_v': 0.0},
-    'valve_null_leakage': {'null_leak_area_m2': 0.0},
-    'piston_seal_leakage': {'seal_leak_area_m2': 0.0},
-    'external_leakage': {'leak_area_a_m2': 0.0, 'leak_area_b_m2': 0.0},
-    'external_load_torque': {'load_torque_n_m': 0.0},
-    'payload_inertia': {'payload_inertia_kg_m2': 0.0},
-    'asymmetric_friction': {'extra_negative_friction_n': 0.0},
-    'dead_volume': {'extra_dead_volume_a_m3': 0.0, 'extra_dead_volume_b_m3': 0.0},
-    'sensor_delay': {'measurement_delay_s': 0.0},
-}
+NEUTRAL = {n: registry.get(n).neutral for n in registry.CATALOGUE_NAMES
+           if registry.get(n).neutral is not None}
 #: neutral effects whose hooks cost almost nothing: they share one compiled host model
 #: (a composition compiles in seconds, and one host replaces seven compilations)
 SHARED = ('transport_delay', 'valve_null_offset', 'external_load_torque', 'payload_inertia',

@@ -82,6 +82,9 @@ class Component:
     acts_on: ClassVar[str] = 'both'
     #: Order within a stage (lower runs first), e.g. a null offset before spool dynamics.
     order: ClassVar[int] = 50
+    #: Parameter values at which this effect adds exactly nothing (None if none exist,
+    #: e.g. a spool lag or a supply line cannot be made ideal).
+    neutral: ClassVar[Optional[dict[str, float]]] = None
 
     valve: ClassVar[Optional[Callable]] = None
     supply: ClassVar[Optional[Callable]] = None

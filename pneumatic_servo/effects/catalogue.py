@@ -83,6 +83,7 @@ class TransportDelay(Component):
     """A pure delay between the command and the valve (lines, fieldbus, driver)."""
 
     name = 'transport_delay'
+    neutral = {'command_delay_s': 0.0}
     summary = 'pure delay between command and flow (lines, bus)'
     reference = 'dead time of signal and pneumatic lines'
     params = (Param('command_delay_s', 's', 0.01, 0.0, 0.2, 'command-to-valve delay',
@@ -103,6 +104,7 @@ class ValveNullOffset(Component):
     """The valve's true centre is not at the nominal null voltage."""
 
     name = 'valve_null_offset'
+    neutral = {'null_offset_v': 0.0}
     summary = "the valve's true centre is not at 5 V"
     reference = 'spool/sleeve manufacturing and driver offset'
     params = (Param('null_offset_v', 'V', 0.05, -1.0, 1.0,
@@ -128,6 +130,7 @@ class ValveNullLeakage(Component):
     """Near the centre, the lands leak like orifices (turbulent), not like a laminar gap."""
 
     name = 'valve_null_leakage'
+    neutral = {'null_leak_area_m2': 0.0}
     summary = 'leakage at and near the centre behaves like an orifice, not a laminar gap'
     reference = 'underlap/land leakage of proportional spool valves'
     acts_on = 'pressure'
@@ -192,6 +195,7 @@ class PistonSealLeakage(Component):
     """Gas leaks from chamber a to chamber b across the piston seals."""
 
     name = 'piston_seal_leakage'
+    neutral = {'seal_leak_area_m2': 0.0}
     summary = 'gas leaks from chamber a to chamber b across the pistons'
     reference = 'worn or cold piston seals'
     acts_on = 'pressure'
@@ -212,6 +216,7 @@ class ExternalLeakage(Component):
     """Gas leaks from each chamber to atmosphere (fittings, rod seals)."""
 
     name = 'external_leakage'
+    neutral = {'leak_area_a_m2': 0.0, 'leak_area_b_m2': 0.0}
     summary = 'gas leaks from a chamber to atmosphere'
     reference = 'leaky fittings and shaft seals'
     acts_on = 'pressure'
@@ -234,6 +239,7 @@ class ExternalLoadTorque(Component):
     """A constant torque on the shaft (gravity on an offset load, a spring preload)."""
 
     name = 'external_load_torque'
+    neutral = {'load_torque_n_m': 0.0}
     summary = 'a constant torque acts on the shaft'
     reference = 'Newton: extra term in the moment balance, Eq. 37'
     acts_on = 'angle'
@@ -252,6 +258,7 @@ class PayloadInertia(Component):
     """Extra inertia of a payload on the shaft."""
 
     name = 'payload_inertia'
+    neutral = {'payload_inertia_kg_m2': 0.0}
     summary = 'extra inertia on the shaft'
     reference = 'Newton: inertia term of Eq. 37'
     acts_on = 'angle'
@@ -273,6 +280,7 @@ class AsymmetricFriction(Component):
     """Friction is larger (or smaller) when the shaft turns towards decreasing angle."""
 
     name = 'asymmetric_friction'
+    neutral = {'extra_negative_friction_n': 0.0}
     summary = 'friction differs with the direction of motion'
     reference = 'direction-dependent seal friction'
     acts_on = 'angle'
@@ -295,6 +303,7 @@ class DeadVolume(Component):
     """Chamber dead volumes differ from the nominal (tubing, fittings)."""
 
     name = 'dead_volume'
+    neutral = {'extra_dead_volume_a_m3': 0.0, 'extra_dead_volume_b_m3': 0.0}
     summary = 'chamber dead volumes differ from the nominal (tubing)'
     reference = 'tubing between valve and actuator'
     acts_on = 'pressure'
@@ -311,6 +320,7 @@ class SensorDelay(Component):
     """All measurements lag the physical state by a pure delay (filters, DAQ buffering)."""
 
     name = 'sensor_delay'
+    neutral = {'measurement_delay_s': 0.0}
     summary = 'the measurements lag the physical state'
     reference = 'transmitter filtering and acquisition latency'
     params = (Param('measurement_delay_s', 's', 0.005, 0.0, 0.2, 'measurement delay',
