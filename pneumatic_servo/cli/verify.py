@@ -49,9 +49,14 @@ def _value(text: str, unit: str, what: str) -> float:
     try:
         value = float(text)
     except ValueError:
-        value = to_si(text, 'rad' if unit == 'deg' else unit, what)
-        if unit == 'deg':
-            value = math.degrees(value)
+        if unit != 'deg':
+            value = to_si(text, unit, what)
+        else:  # converted through rad, but the user thinks in degrees
+            try:
+                value = math.degrees(to_si(text, 'rad', what))
+            except ConfigError:
+                raise ConfigError(f"{what}: cannot read {text!r}; write a number in deg or a "
+                                  "value with a unit such as '1.5 deg'") from None
     if not (value > 0 and math.isfinite(value)):
         raise ConfigError(f'{what} must be a positive number, got {text!r}')
     return value
