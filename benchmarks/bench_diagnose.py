@@ -37,7 +37,7 @@ def main(argv=None) -> int:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument('--effect', default='external_leakage', help='hidden effect of the bag')
     args = p.parse_args(argv)
-    from pneumatic_servo.analysis.diagnose import diagnose
+    from pneumatic_servo.analysis.diagnosis import diagnose
     from pneumatic_servo.effects import CATALOGUE_NAMES
     from pneumatic_servo.io import read_experiment
     with tempfile.TemporaryDirectory() as tmp:

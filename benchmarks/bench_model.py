@@ -32,8 +32,14 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 from pneumatic_servo import _jit  # noqa: E402
-from pneumatic_servo.model import (Model, ModelConfig, Stepper, initial_state,  # noqa: E402
-                                   simulate, simulate_batch)
+from pneumatic_servo.model import (  # noqa: E402
+    Model,
+    ModelConfig,
+    Stepper,
+    initial_state,
+    simulate,
+    simulate_batch,
+)
 from pneumatic_servo.model.circuits import gauge_supply_pa, sine_command  # noqa: E402
 
 TARGET_ONE, TARGET_BATCH = 100.0, 2000.0  # [x real time]

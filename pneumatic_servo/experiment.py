@@ -10,6 +10,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .effects.layout import CIRCUITS
 from .errors import ExperimentError
 
 #: signal name -> (unit, meaning). Pressures absolute.
@@ -30,9 +31,46 @@ SIGNALS = {
 }
 #: inputs a simulation needs, and the measured outputs compared with it
 INPUTS = ('command_v', 'supply_pa')
-#: compared channel -> signal (INTERFACES.md 'compare' JSON keys)
-CHANNELS = {'angle': 'angle_rad', 'p_a': 'p_a_pa', 'p_b': 'p_b_pa'}
-CIRCUIT_NAMES = ('servo', 'blocked', 'closed_port', 'flow')
+
+
+@dataclass(frozen=True)
+class Channel:
+    """A measured output the model predicts: its signal, SI unit, what it is, the smallest
+    spread [SI] a fit normalises it by (None: never fitted), its display unit and factor, and
+    the equation whose error shows first in it."""
+
+    signal: str
+    unit: str
+    label: str
+    floor: float | None
+    display: tuple[str, float]
+    equation: str = ''
+
+
+#: compared channels (INTERFACES.md 'compare' JSON keys): the one table of them
+CHANNELS = {
+    'angle': Channel('angle_rad', 'rad', 'angle', 2e-3, ('deg', 180.0 / np.pi),
+                     'moment balance (angle)'),
+    'p_a': Channel('p_a_pa', 'Pa', 'chamber a pressure', 2e3, ('kPa', 1e-3),
+                   'mass balance of chamber a'),
+    'p_b': Channel('p_b_pa', 'Pa', 'chamber b pressure', 2e3, ('kPa', 1e-3),
+                   'mass balance of chamber b'),
+    't_a': Channel('t_a_k', 'K', 'chamber a temperature', None, ('K', 1.0),
+                   'energy balance of chamber a'),
+    't_b': Channel('t_b_k', 'K', 'chamber b temperature', None, ('K', 1.0),
+                   'energy balance of chamber b'),
+    'm4': Channel('m4_kg_s', 'kg/s', 'port 4 flow', 1e-6, ('g/s', 1e3), 'valve flow (port 4)'),
+    'm5': Channel('m5_kg_s', 'kg/s', 'port 5 flow', 1e-7, ('g/s', 1e3),
+                  'valve flow (exhaust port 5)'),
+}
+#: the channels of a time series that the residual tests and regime shares look at
+STATE_CHANNELS = ('angle', 'p_a', 'p_b')
+CIRCUIT_NAMES = tuple(CIRCUITS)
+
+
+def signal_of(channel: str) -> str:
+    """The signal of ``channel`` (a signal name is returned as it is)."""
+    return CHANNELS[channel].signal if channel in CHANNELS else channel
 
 
 @dataclass
@@ -94,4 +132,4 @@ class Experiment:
 
     def channels(self) -> list[str]:
         """Compared channels (angle, p_a, p_b) present in this experiment."""
-        return [ch for ch, sig in CHANNELS.items() if sig in self.signals]
+        return [ch for ch in STATE_CHANNELS if CHANNELS[ch].signal in self.signals]

@@ -5,15 +5,28 @@ import math
 import numpy as np
 import pytest
 from scipy.optimize import brentq
+from test_physics import (
+    B_CRIT,
+    C0,
+    D_H,
+    D_S,
+    KAPPA,
+    L0,
+    P_E,
+    R_GAS,
+    T_E,
+    c1_settled,
+    eq8,
+    eq17,
+    psi,
+    s_e,
+    s_v,
+)
 
 from pneumatic_servo.analysis.paper_figures import check_charge_discharge, sine_summary
 from pneumatic_servo.errors import SimulationError
 from pneumatic_servo.experiment import Experiment
-from pneumatic_servo.model import Model, ModelConfig
-from pneumatic_servo.model import circuits
-
-from test_physics import (B_CRIT, C0, D_H, D_S, KAPPA, L0, P_E, R_GAS, T_E, c1_settled, eq8,
-                          eq17, psi, s_e, s_v)
+from pneumatic_servo.model import Model, ModelConfig, circuits
 
 GAUGES = (0.5e6, 0.7e6, 0.83e6)
 

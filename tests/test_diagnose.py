@@ -1,4 +1,4 @@
-"""Diagnosis of hidden effects (analysis.diagnose, cli/diagnose): the acceptance tests of the
+"""Diagnosis of hidden effects (analysis.diagnosis, cli/diagnose): the acceptance tests of the
 model-discrepancy workflow.
 
 The data in ``tests/data/hidden`` are real bags and CSV tables written by
@@ -21,7 +21,7 @@ import yaml
 
 from pneumatic_servo import effects as registry
 from pneumatic_servo._jit import njit
-from pneumatic_servo.analysis.diagnose import DiagnoseOptions, apply, diagnose
+from pneumatic_servo.analysis.diagnosis import DiagnoseOptions, apply, diagnose
 from pneumatic_servo.effects import Component, Param
 from pneumatic_servo.effects.layout import C_TORQUE, THETA
 from pneumatic_servo.io import read_experiment
@@ -260,7 +260,7 @@ def test_compare_report_shows_where_it_fails(tmp_path):
 
 
 def test_discrepancy_workflow_finds_the_hidden_effect_and_stops(tmp_path):
-    from pneumatic_servo.analysis.workflow import run_discrepancy_demo
+    from pneumatic_servo.workflow import run_discrepancy_demo
     lines = []
     summary = run_discrepancy_demo(tmp_path, bag=DATA / 'external_load_torque' / 'closed_loop',
                                    say=lines.append)

@@ -10,8 +10,17 @@ import zlib
 import numpy as np
 import pytest
 
-from pneumatic_servo.effects.layout import (BLOCKED, C_MA, C_MB, CIRCUITS, N_CONTEXT, P_A, P_B,
-                                            T_A, T_B)
+from pneumatic_servo.effects.layout import (
+    BLOCKED,
+    C_MA,
+    C_MB,
+    CIRCUITS,
+    N_CONTEXT,
+    P_A,
+    P_B,
+    T_A,
+    T_B,
+)
 from pneumatic_servo.model import Model, ModelConfig, Stepper, initial_state, simulate
 from pneumatic_servo.physics.gas import clearance_flow, orifice_flow
 from pneumatic_servo.physics.valve import flow_coefficient
@@ -347,6 +356,7 @@ def test_stepper_stays_finite_and_physical(model, method):
     rng = np.random.default_rng(3)
     plant = Stepper(model, period_s=1e-3, method=method)
     stroke = model.config.core['stroke_rad']
+    u = 5.0
     for k in range(600):
         u = rng.uniform(0.0, 10.0) if k % 50 == 0 else u
         x = plant.step(u)

@@ -3,7 +3,8 @@ correlation with regressors, and the summary of which equation the residual live
 import numpy as np
 import pytest
 
-from pneumatic_servo.analysis.diagnose import Data, DiagnoseOptions, predictions
+from pneumatic_servo.analysis.diagnosis import DiagnoseOptions, predictions
+from pneumatic_servo.analysis.diagnosis.data import Data
 from pneumatic_servo.analysis.residuals import (
     channel_tests,
     effective_samples,

@@ -20,9 +20,9 @@ import numpy as np
 
 from ..errors import ConfigError, ExperimentError
 from ..experiment import Experiment
-from ..identification.predict import predict
 from ..model.assembly import Model
 from ..model.config import ModelConfig
+from ..prediction import COMPARE_HORIZON_S, config_for, open_loop, predict_checked, windows
 from .metrics import channel_metrics
 
 #: compared channel -> (signal, SI unit); INTERFACES.md names the first three
@@ -33,7 +33,7 @@ MODES = ('open_loop', 'k_step')
 #: the paper's verification limits (Section 6.3): 1.25 deg and 4e-3 MPa
 PAPER_MAX_ANGLE_ERROR_DEG = 1.25
 PAPER_MAX_PRESSURE_ERROR_PA = 4.0e3
-DEFAULT_HORIZON_S = 0.2
+DEFAULT_HORIZON_S = COMPARE_HORIZON_S
 
 _MODELS: dict[tuple, Model] = {}
 
@@ -67,14 +67,6 @@ def model_for(config: ModelConfig) -> Model:
     return model
 
 
-def config_for(exp: Experiment, config: ModelConfig) -> ModelConfig:
-    """``config`` adjusted to the record's set-up (where the pistons were held)."""
-    angle = exp.metadata.get('blocked_angle_rad')
-    if exp.circuit == 'blocked' and angle is not None:
-        config = config.copy()
-        config.core['blocked_angle_rad'] = float(angle)
-    return config
-
 
 def predictions(exp: Experiment, config: ModelConfig, modes=MODES,
                 horizon_s: float = DEFAULT_HORIZON_S, model: Model | None = None
@@ -86,8 +78,9 @@ def predictions(exp: Experiment, config: ModelConfig, modes=MODES,
     cfg = config_for(exp, config)
     model = model or model_for(cfg)
     if exp.static:
-        return {'open_loop': predict(model, exp, cfg)}
-    return {mode: predict(model, exp, cfg, mode=mode, horizon_s=horizon_s) for mode in modes}
+        return {'open_loop': predict_checked(model, exp, cfg)}
+    plans = {'open_loop': lambda: open_loop(exp), 'k_step': lambda: windows(exp, horizon_s)}
+    return {mode: predict_checked(model, exp, cfg, plans[mode]()) for mode in modes}
 
 
 def channel_table(exp: Experiment, pred: dict[str, np.ndarray], skip_s: float = 0.0) -> dict:

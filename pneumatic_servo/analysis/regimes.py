@@ -28,8 +28,9 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.signal import savgol_filter
 
-from ..experiment import CHANNELS, Experiment
+from ..experiment import STATE_CHANNELS, Experiment, signal_of
 from ..model.config import ModelConfig
+from ..physics.gas import ideal_critical_ratio
 
 #: regime family -> its classes, in display order
 FAMILIES = {
@@ -128,7 +129,9 @@ def _flow(exp, pred, config):
         return None
     core = config.core
     ps = exp.signals.get('supply_pa', np.full(len(p_a), core['supply_pressure_pa']))
-    crit = config.components.get('orifice_flow', {}).get('critical_pressure_ratio', 0.5282)
+    # the valve's own critical ratio where its orifice part declares one, else the ideal
+    crit = config.components.get('orifice_flow', {}).get(
+        'critical_pressure_ratio', ideal_critical_ratio(core['heat_capacity_ratio']))
     positive = exp['command_v'] >= core['valve_null_voltage_v']
     filling = p_a if p_b is None or exp.circuit not in ('servo', 'blocked') else \
         np.where(positive, p_a, p_b)
@@ -222,7 +225,7 @@ def _squared_errors(exp: Experiment, pred: dict, channels) -> dict[str, np.ndarr
     experiments pooled together weigh alike."""
     out = {}
     for ch in channels:
-        sig = CHANNELS.get(ch, ch)
+        sig = signal_of(ch)
         if sig in exp.signals and sig in pred:
             r = np.asarray(pred[sig]) - exp[sig]
             scale = max(float(np.nanstd(exp[sig])), 1e-12)
@@ -231,7 +234,7 @@ def _squared_errors(exp: Experiment, pred: dict, channels) -> dict[str, np.ndarr
 
 
 def error_shares(experiments: list[Experiment], predictions: list[dict],
-                 config: ModelConfig | None = None, channels=('angle', 'p_a', 'p_b'),
+                 config: ModelConfig | None = None, channels=STATE_CHANNELS,
                  thresholds: Thresholds | None = None) -> list[RegimeShare]:
     """Share of time and of each channel's squared error per regime, pooled over experiments.
 

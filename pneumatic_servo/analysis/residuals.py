@@ -21,42 +21,15 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.signal import savgol_filter
 
-from ..experiment import CHANNELS, Experiment
+from ..experiment import CHANNELS, STATE_CHANNELS, Experiment, signal_of
+from ..fitting.uncertainty import autocorrelation, effective_samples
 
 #: 95 % two-sided normal quantile
 Z95 = 1.96
 #: channel -> the equation whose error shows first in it
-EQUATIONS = {'angle': 'moment balance (angle)', 'p_a': 'mass balance of chamber a',
-             'p_b': 'mass balance of chamber b', 'm4': 'valve flow (port 4)',
-             'm5': 'valve flow (exhaust port 5)'}
+EQUATIONS = {ch: c.equation for ch, c in CHANNELS.items()}
 
 
-def _acf(x: np.ndarray, max_lag: int) -> np.ndarray:
-    """Autocorrelation of ``x`` at lags 0..max_lag (biased estimator, FFT)."""
-    x = x - x.mean()
-    n = len(x)
-    f = np.fft.rfft(x, 2 * n)
-    acf = np.fft.irfft(f * np.conj(f))[:max_lag + 1]
-    return acf / acf[0] if acf[0] > 0 else np.zeros(max_lag + 1)
-
-
-def effective_samples(x: np.ndarray, y: np.ndarray | None = None) -> float:
-    """Independent samples in a correlated series, n / (1 + 2 sum rho_x(k) rho_y(k)).
-
-    With ``y`` given this is Bartlett's count for the correlation of x with
-    y; alone, the integrated autocorrelation time of ``x`` (summed up to the
-    first zero crossing).
-    """
-    n = len(x)
-    if n < 4 or not np.any(x - x.mean()):
-        return float(max(n, 1))
-    rx = _acf(x, n - 1)
-    ry = rx if y is None else _acf(y, n - 1)
-    prod = rx * ry
-    neg = np.nonzero(prod[1:] <= 0.0)[0]
-    cut = neg[0] + 1 if len(neg) else n
-    tau = max(1.0, 1.0 + 2.0 * float(np.sum(prod[1:cut])))
-    return float(max(n / tau, 2.0))
 
 
 def _corr(x: np.ndarray, y: np.ndarray) -> float:
@@ -158,7 +131,7 @@ class ChannelTests:
 
 def _pooled(experiments, predictions, channel):
     """Concatenated residual, command and regressors of one channel over experiments."""
-    sig = CHANNELS.get(channel, channel)
+    sig = signal_of(channel)
     e, u, regs, dts = [], [], {}, []
     for exp, pred in zip(experiments, predictions):
         if exp.static or sig not in exp.signals or sig not in pred:
@@ -204,7 +177,7 @@ def channel_tests(experiments: list[Experiment], predictions: list[dict], channe
     e, u, regs, dt = pooled
     n = len(e)
     max_lag = max(1, min(int(round(max_lag_s / dt)), n // 4))
-    acf = _acf(e, max_lag)
+    acf = autocorrelation(e, max_lag)
     band = Z95 / np.sqrt(n)
     xc = cross_correlation(e, u, max_lag)
     corrs = {k: _corr(e, v) for k, v in regs.items()}
@@ -217,7 +190,7 @@ def channel_tests(experiments: list[Experiment], predictions: list[dict], channe
 
 
 def residual_tests(experiments: list[Experiment], predictions: list[dict],
-                   channels=('angle', 'p_a', 'p_b'), max_lag_s: float = 0.2
+                   channels=STATE_CHANNELS, max_lag_s: float = 0.2
                    ) -> dict[str, ChannelTests]:
     """:func:`channel_tests` for every channel some experiment measures."""
     out = {}
@@ -229,7 +202,7 @@ def residual_tests(experiments: list[Experiment], predictions: list[dict],
 
 
 def _normalised_rms(experiments, predictions, channel) -> float:
-    sig = CHANNELS.get(channel, channel)
+    sig = signal_of(channel)
     vals = []
     for exp, pred in zip(experiments, predictions):
         if sig in exp.signals and sig in pred:
@@ -253,7 +226,7 @@ def volume_explained(experiments, predictions, config=None) -> dict[str, float]:
     for ch, sign in (('p_a', -1.0), ('p_b', 1.0)):
         x_all, y_all = [], []
         for exp, pred in zip(experiments, predictions):
-            sig = CHANNELS[ch]
+            sig = signal_of(ch)
             if exp.circuit != 'servo' or sig not in exp.signals or 'angle_rad' not in pred:
                 continue
             theta = np.clip(exp['angle_rad'], 0.0, core['stroke_rad'])

@@ -5,14 +5,11 @@ The demo is a list of stages, run in order:
 
 1. ``paper_figures``: the paper's experiments and the switchable parts (figures);
 2. ``closed_loop``: a closed loop over DDS (``pneumatic_servo.ros.demo``);
-3. ``diagnosis``: the model-discrepancy workflow (``pneumatic_servo.analysis.workflow``).
-
-A stage whose module is not built yet is reported as skipped.
+3. ``diagnosis``: the model-discrepancy workflow (``pneumatic_servo.workflow``).
 """
 from __future__ import annotations
 
 import argparse
-import importlib
 import json
 import math
 import time
@@ -21,6 +18,7 @@ from pathlib import Path
 from typing import Callable, Optional
 
 from ..errors import ConfigError, PneumaticServoError
+from ..workflow import run_discrepancy_demo
 
 
 @dataclass(frozen=True)
@@ -41,19 +39,13 @@ def _paper_figures(out_dir: Path, config, log) -> dict:
     return result
 
 
-def _imported(module: str, attr: str) -> Callable:
-    """``module.attr``; ImportError if that module is not built (yet)."""
-    return getattr(importlib.import_module(module), attr)
-
-
 def _closed_loop(out_dir: Path, config, log) -> dict:
-    run = _imported('pneumatic_servo.ros.demo', 'run_closed_loop_demo')
-    return run(out_dir / 'closed_loop')
+    from ..ros.demo import run_closed_loop_demo  # rclpy is loaded only for this stage
+    return run_closed_loop_demo(out_dir / 'closed_loop')
 
 
 def _diagnosis(out_dir: Path, config, log) -> dict:
-    run = _imported('pneumatic_servo.analysis.workflow', 'run_discrepancy_demo')
-    return run(out_dir / 'diagnosis')
+    return run_discrepancy_demo(out_dir / 'diagnosis')
 
 
 STAGES = (
@@ -118,8 +110,8 @@ def _run_stage(stage: Stage, args, out: Path, config) -> dict:
     try:
         result = dict(stage.run(out, config, lambda line: print(f'   {line}', flush=True)))
     except ImportError as exc:
-        print(f'   skipped: not built ({exc})')
-        return {'status': 'skipped', 'reason': f'not built: {exc}'}
+        print(f'   skipped: cannot import what it needs ({exc})')
+        return {'status': 'skipped', 'reason': f'cannot import: {exc}'}
     except PneumaticServoError as exc:
         print(f'   failed: {exc}')
         return {'status': 'failed', 'reason': str(exc)}

@@ -20,7 +20,13 @@ from pathlib import Path
 
 import numpy as np
 
+from ..analysis.diagnosis import DiagnoseOptions, apply, diagnose, text
+from ..analysis.diagnosis.options import MIN_REDUCTION
+from ..analysis.report import write_diagnosis_report
 from ..errors import ConfigError
+from ..io import read_experiment
+from ..model.config import ModelConfig
+from ..prediction import DIAGNOSIS_HORIZON_S
 
 
 def add_parser(sub) -> argparse.ArgumentParser:
@@ -41,10 +47,11 @@ def add_parser(sub) -> argparse.ArgumentParser:
     p.add_argument('--effects', metavar='E1,E2', default='',
                    help='candidate effects to try (default: all registered)')
     p.add_argument('--horizon', type=float, default=None, metavar='S',
-                   help='prediction horizon [s] from each measured state (default 0.25)')
+                   help='prediction horizon [s] from each measured state (default '
+                        f'{DIAGNOSIS_HORIZON_S:g})')
     p.add_argument('--min-reduction', type=float, default=None, metavar='F',
                    help='smallest held-out error reduction that can name an effect '
-                        '(default 0.1)')
+                        f'(default {MIN_REDUCTION:g})')
     p.add_argument('--quiet', action='store_true', help='print only the verdict')
     p.set_defaults(run=run)
     return p
@@ -73,56 +80,9 @@ def _clean(o):
     return o
 
 
-def _print_where(result, out) -> None:
-    where = result.where
-    spots = where.get('hot_spots', [])
-    if spots:
-        out('where the model fails (error share vs time share):')
-        for s in spots[:5]:
-            out(f'  {s["channel"]:<6} {s["family"] + ": " + s["regime"]:<28} '
-                f'{100 * s["error_share"]:5.1f} % of the error in {100 * s["time_share"]:5.1f} '
-                '% of the time')
-    text = where.get('residuals', {}).get('text')
-    if text:
-        out(f'residual tests: {text}')
-
-
-def _print_ranking(result, out) -> None:
-    out(f'{"effect":<24} {"error red.":>10} {"dBIC":>9}  fitted values (+/- 1 s.e.)')
-    for c in result.ranking:
-        vals = ', '.join(f'{k.partition(".")[2]}={v:.4g}+/-{c.stderr[k]:.2g}'
-                         for k, v in c.params.items())
-        note = '' if c.plausible else '  [implausible]'
-        out(f'{c.effect:<24} {100 * c.error_reduction:9.1f}% {c.delta_bic:9.1f}  {vals}{note}')
-
-
-def print_ladder(ladder: list[dict], out=print) -> None:
-    """The ladder as a table: held-out normalised RMS per channel, per model."""
-    if not ladder:
-        return
-    chans = list(ladder[0]['channels'])
-    out('ladder (held-out RMS / channel spread):')
-    out(f'  {"model":<28}' + ''.join(f'{ch:>10}' for ch in chans) + f'{"overall":>10}')
-    for r in ladder:
-        out(f'  {r["model"]:<28}' + ''.join(f'{r["channels"].get(ch, float("nan")):10.4f}'
-                                            for ch in chans) + f'{r["overall"]:10.4f}')
-
-
-def read_all(paths) -> list:
-    """Experiments of every bag directory and CSV table in ``paths``."""
-    from ..io import read_experiment
-    return [read_experiment(p) for p in paths]
-
-
-def load_config(path):
-    from ..model.config import ModelConfig
-    return ModelConfig.load(path) if path else ModelConfig.paper()
-
-
 def run(args) -> int:
-    from ..analysis.diagnose import DiagnoseOptions, apply, diagnose
-    experiments = read_all(args.bags)
-    config = load_config(args.config)
+    experiments = [read_experiment(p) for p in args.bags]
+    config = ModelConfig.load(args.config) if args.config else ModelConfig.paper()
     options = DiagnoseOptions()
     if args.horizon is not None:
         if not args.horizon > 0:
@@ -139,40 +99,21 @@ def run(args) -> int:
     result = diagnose(experiments, config, _names(args.effects), _names(args.free), options,
                       progress=progress)
     if not args.quiet:
-        _print_where(result, say)
-        _print_ranking(result, say)
-        print_ladder(result.ladder, say)
-    print(f'verdict: {result.verdict}  ({result.reason})')
-    if result.ambiguous_with:
-        print(f'about as good: {", ".join(result.ambiguous_with)}; to tell them apart, '
-              f'{result.suggested_experiment}')
+        text.print_where(result, say)
+        text.print_ranking(result, say)
+        text.print_discovered(result, say)
+        text.print_ladder(result.ladder, say)
+    text.print_verdict(result)
     if args.json:
         Path(args.json).write_text(json.dumps(_clean(result.to_json()), indent=1,
                                               default=_json_default))
         say(f'wrote {args.json}')
     if args.apply:
-        if result.winner is None:
-            print(f'nothing to apply: no effect earns its place; {args.apply} not written')
+        if result.added is None:
+            print(f'nothing to apply (status {result.status}); {args.apply} not written')
         else:
-            cfg = apply(result)
-            c = result.winner
-            cfg.save(args.apply, header=f'diagnose: added {c.effect} '
-                                        f'(held-out error -{100 * c.error_reduction:.1f} %)\n'
-                     + '\n'.join(f'{k} = {v:.6g} +/- {c.stderr[k]:.2g}'
-                                 for k, v in c.params.items()))
-            print(f'wrote {args.apply} (model + {c.effect})')
+            apply(result).save(args.apply, header=text.apply_header(result))
+            print(f'wrote {args.apply} (model + {result.added.effect})')
     if args.report:
-        path = write_report(args.report, result, config)
-        say(f'wrote {path}')
+        say(f'wrote {write_diagnosis_report(args.report, result)}')
     return 0
-
-
-def write_report(directory, result, config):
-    """HTML report of ``result``: the model as given and, if any, with the winner."""
-    from ..analysis.diagnose import predictions
-    from ..analysis.report import write_diagnose_report
-    preds = {'model as given': result.base_predictions}
-    if result.winner is not None:
-        preds[f'+ {result.winner.effect}'] = predictions(result.winner.config, result.data)
-    return write_diagnose_report(directory, result, result.data.experiments, preds,
-                                 result.baseline.config)

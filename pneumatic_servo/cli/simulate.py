@@ -27,11 +27,11 @@ def add_parser(sub) -> argparse.ArgumentParser:
 
 
 def run(args) -> int:
-    from ..analysis.compare import config_for, model_for, resolve_config
+    from ..analysis.compare import model_for, resolve_config
     from ..errors import ExperimentError
     from ..experiment import Experiment
-    from ..identification.predict import predict
     from ..io import read_experiment, write_experiment
+    from ..prediction import config_for, predict_checked
     exp = read_experiment(args.bag)
     out = Path(args.out)
     if exp.static and out.suffix.lower() != '.csv':
@@ -41,7 +41,7 @@ def run(args) -> int:
     if out.exists():
         raise ExperimentError(f'{out} exists; choose a new output path')
     cfg = config_for(exp, resolve_config(args.config, args.effects))
-    pred = predict(model_for(cfg), exp, cfg)
+    pred = predict_checked(model_for(cfg), exp, cfg)
     signals = {k: v for k, v in exp.signals.items()
                if k in ('command_v', 'supply_pa', 't_s_k', 'setpoint_rad')}
     for key, values in exp.signals.items():

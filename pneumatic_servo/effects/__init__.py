@@ -14,6 +14,7 @@ from importlib.metadata import entry_points
 from ..errors import ConfigError
 from .base import Component, Param, State
 from .catalogue import CATALOGUE
+from .corrections import CORRECTIONS
 from .paper import PAPER_COMPONENTS, PAPER_DEFAULTS
 
 __all__ = ['Component', 'Param', 'State', 'register', 'get', 'names', 'CATALOGUE_NAMES',
@@ -33,8 +34,9 @@ def register(cls: type[Component]) -> type[Component]:
             cls.hook(s) for s in ('valve', 'supply', 'geometry', 'flows', 'heat',
                                   'mechanics', 'finish'))) \
             and cls.input_delay_s is Component.input_delay_s \
-            and cls.output_delay_s is Component.output_delay_s:
-        raise ConfigError(f'effect {cls.name!r} adds nothing: give it a hook or a delay')
+            and cls.output_delay_s is Component.output_delay_s and cls.sensor_error is None:
+        raise ConfigError(f'effect {cls.name!r} adds nothing: give it a hook, a delay or a '
+                          'sensor error')
     _REGISTRY[cls.name] = cls
     return cls
 
@@ -66,7 +68,9 @@ def get(name: str) -> type[Component]:
     if name in _REGISTRY:
         return _REGISTRY[name]
     close = difflib.get_close_matches(name, list(_REGISTRY), n=1)
-    hint = f"; did you mean '{close[0]}'?" if close else f'; known: {", ".join(names())}'
+    named = [n for n in names() if not _REGISTRY[n].generic]
+    hint = (f"; did you mean '{close[0]}'?" if close else
+            f'; known: {", ".join(named)} (and the generic correction_<equation> terms)')
     raise ConfigError(f'unknown effect or component {name!r}{hint}')
 
 
@@ -76,5 +80,5 @@ def names() -> list[str]:
     return sorted(_REGISTRY)
 
 
-for _cls in PAPER_COMPONENTS + CATALOGUE:
+for _cls in PAPER_COMPONENTS + CATALOGUE + CORRECTIONS:
     register(_cls)

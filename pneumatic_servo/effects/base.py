@@ -85,6 +85,25 @@ class Component:
     #: Parameter values at which this effect adds exactly nothing (None if none exist,
     #: e.g. a spool lag or a supply line cannot be made ideal).
     neutral: ClassVar[Optional[dict[str, float]]] = None
+    #: Realistic values [SI] of a rig that has this effect: what generated test data hide
+    #: and what diagnosis must recover (parameters not named keep their defaults).
+    example: ClassVar[Optional[dict[str, float]]] = None
+    #: Circuits whose equations it acts in ('servo', 'blocked', 'closed_port', 'flow').
+    circuits: ClassVar[tuple[str, ...]] = ('servo', 'blocked', 'closed_port', 'flow')
+    #: Whether it shows in steady states (static tables); a lag or a delay does not.
+    steady: ClassVar[bool] = True
+    #: Whether it may sit switched off (at ``neutral``) in a compiled host model shared by
+    #: several candidates: true for effects whose hooks cost next to nothing, since each
+    #: composition takes seconds to compile.
+    shares_host: ClassVar[bool] = False
+    #: The experiment that excites this effect more than its look-alikes, in words.
+    excitation: ClassVar[str] = ''
+    #: Look-alike effect name -> the experiment that tells the two apart, where a specific
+    #: one is known (otherwise both effects' ``excitation`` is suggested).
+    separated_from: ClassVar[dict[str, str]] = {}
+    #: A generic correction term (``effects.corrections``), not a named physical effect:
+    #: diagnosis fits it in its discovery step, never as a named candidate.
+    generic: ClassVar[bool] = False
 
     valve: ClassVar[Optional[Callable]] = None
     supply: ClassVar[Optional[Callable]] = None
@@ -93,6 +112,12 @@ class Component:
     heat: ClassVar[Optional[Callable]] = None
     mechanics: ClassVar[Optional[Callable]] = None
     finish: ClassVar[Optional[Callable]] = None
+    #: Measurement error ``sensor_error(values, signals, core) -> {signal: error}`` [SI]: what
+    #: this component adds to the sensors' readings, from the physical ``signals`` (arrays:
+    #: ``angle_rad``, ``velocity_rad_s``, ``p_a_pa``, ``p_b_pa``, ``command_v``,
+    #: ``supply_pa``) and the core parameters; plain numpy, applied after the simulation, so
+    #: it never feeds back into the physics. None if it adds none.
+    sensor_error: ClassVar[Optional[Callable]] = None
 
     @classmethod
     def defaults(cls) -> dict[str, float]:
@@ -113,6 +138,11 @@ class Component:
     def output_delay_s(cls, values: dict[str, float]) -> float:
         """Pure delay [s] this component adds between physical state and measurement."""
         return 0.0
+
+    @classmethod
+    def refit_keys(cls, values: dict[str, float]) -> list[str]:
+        """Parameters refitted when a model holding this component is diagnosed again."""
+        return [p.name for p in cls.params if p.fit]
 
     @classmethod
     def validate(cls, values: dict[str, float]) -> None:

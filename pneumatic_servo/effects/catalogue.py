@@ -6,7 +6,7 @@ magnitudes for a small rotary actuator like the paper's SMC MSQA30A rig.
 import math
 
 from .._jit import njit
-from ..physics.gas import orifice_flow
+from ..physics.gas import ideal_critical_ratio, orifice_flow
 from .base import Component, Param, State
 from .layout import (
     BLOCKED,
@@ -43,15 +43,9 @@ _BAND = 0.005  # laminar band next to pressure ratio 1 for the leak orifices
 
 
 @njit(cache=True)
-def _ideal_critical_ratio(kappa):
-    """Critical pressure ratio of an ideal nozzle, (2/(kappa+1))^(kappa/(kappa-1))."""
-    return (2.0 / (kappa + 1.0)) ** (kappa / (kappa - 1.0))
-
-
-@njit(cache=True)
 def _leak(area, p1, t1, p2, t2, c):
     k = c[C_KAPPA]
-    return orifice_flow(area, p1, t1, p2, t2, _ideal_critical_ratio(k), c[C_R], k, _BAND)
+    return orifice_flow(area, p1, t1, p2, t2, ideal_critical_ratio(k), c[C_R], k, _BAND)
 
 
 # --- valve ------------------------------------------------------------------
@@ -65,6 +59,10 @@ class ValveSpoolDynamics(Component):
     """The spool follows the command with a first-order lag instead of instantly."""
 
     name = 'valve_spool_dynamics'
+    example = {'spool_time_constant_s': 0.008}
+    steady = False
+    excitation = ('fast command steps or a chirp above 20 Hz (a lag smooths the pressure '
+                  'rise, a pure delay only shifts it)')
     summary = 'spool lags the command (first-order, time constant)'
     reference = 'first-order proportional-valve dynamics, e.g. FESTO MPYE datasheet step response'
     params = (Param('spool_time_constant_s', 's', 0.004, 1e-4, 0.2, 'time constant of the spool',
@@ -83,6 +81,11 @@ class TransportDelay(Component):
     """A pure delay between the command and the valve (lines, fieldbus, driver)."""
 
     name = 'transport_delay'
+    example = {'command_delay_s': 0.015}
+    steady = False
+    shares_host = True
+    excitation = ('sharp command steps with the pistons blocked (the response starts late but '
+                  'rises as fast)')
     neutral = {'command_delay_s': 0.0}
     summary = 'pure delay between command and flow (lines, bus)'
     reference = 'dead time of signal and pneumatic lines'
@@ -104,6 +107,10 @@ class ValveNullOffset(Component):
     """The valve's true centre is not at the nominal null voltage."""
 
     name = 'valve_null_offset'
+    example = {'null_offset_v': 0.12}
+    shares_host = True
+    excitation = ('a slow command ramp through 5 V with the pistons blocked, or a closed-port '
+                  'table near the centre (the pressure crossing moves)')
     neutral = {'null_offset_v': 0.0}
     summary = "the valve's true centre is not at 5 V"
     reference = 'spool/sleeve manufacturing and driver offset'
@@ -130,6 +137,9 @@ class ValveNullLeakage(Component):
     """Near the centre, the lands leak like orifices (turbulent), not like a laminar gap."""
 
     name = 'valve_null_leakage'
+    example = {'null_leak_area_m2': 4e-8}
+    excitation = ('a closed-port or flow-rate table at voltages within 0.5 V of the centre '
+                  '(the leak has the shape of an orifice, not a gap)')
     neutral = {'null_leak_area_m2': 0.0}
     summary = 'leakage at and near the centre behaves like an orifice, not a laminar gap'
     reference = 'underlap/land leakage of proportional spool valves'
@@ -164,6 +174,9 @@ class SupplyPressureDrop(Component):
     """
 
     name = 'supply_pressure_drop'
+    example = {'supply_line_area_m2': 7e-7}
+    excitation = ('a flow-rate test at full opening (8-10 V), or large fast steps, with the '
+                  'supply pressure measured at the regulator')
     summary = 'supply pressure at the valve sags with flow (line/regulator resistance)'
     reference = 'supply line as a restriction plus volume'
     params = (
@@ -195,6 +208,10 @@ class PistonSealLeakage(Component):
     """Gas leaks from chamber a to chamber b across the piston seals."""
 
     name = 'piston_seal_leakage'
+    example = {'seal_leak_area_m2': 3e-8}
+    circuits = ('servo', 'blocked')
+    excitation = ('pistons blocked with a pressure difference and the valve at its centre '
+                  '(the chambers converge to each other)')
     neutral = {'seal_leak_area_m2': 0.0}
     summary = 'gas leaks from chamber a to chamber b across the pistons'
     reference = 'worn or cold piston seals'
@@ -216,6 +233,10 @@ class ExternalLeakage(Component):
     """Gas leaks from each chamber to atmosphere (fittings, rod seals)."""
 
     name = 'external_leakage'
+    example = {'leak_area_a_m2': 2e-8, 'leak_area_b_m2': 1.2e-8}
+    circuits = ('servo', 'blocked', 'closed_port')
+    excitation = ('pistons blocked with the valve at its centre (both chambers decay towards '
+                  'atmosphere)')
     neutral = {'leak_area_a_m2': 0.0, 'leak_area_b_m2': 0.0}
     summary = 'gas leaks from a chamber to atmosphere'
     reference = 'leaky fittings and shaft seals'
@@ -239,6 +260,11 @@ class ExternalLoadTorque(Component):
     """A constant torque on the shaft (gravity on an offset load, a spring preload)."""
 
     name = 'external_load_torque'
+    example = {'load_torque_n_m': 0.25}
+    circuits = ('servo',)
+    shares_host = True
+    excitation = ('closed-loop holds at several angles (a constant pressure difference at rest '
+                  'in both directions of approach)')
     neutral = {'load_torque_n_m': 0.0}
     summary = 'a constant torque acts on the shaft'
     reference = 'Newton: extra term in the moment balance, Eq. 37'
@@ -258,6 +284,11 @@ class PayloadInertia(Component):
     """Extra inertia of a payload on the shaft."""
 
     name = 'payload_inertia'
+    example = {'payload_inertia_kg_m2': 6e-4}
+    circuits = ('servo',)
+    steady = False
+    shares_host = True
+    excitation = 'fast closed-loop setpoint steps (the acceleration phase)'
     neutral = {'payload_inertia_kg_m2': 0.0}
     summary = 'extra inertia on the shaft'
     reference = 'Newton: inertia term of Eq. 37'
@@ -280,6 +311,10 @@ class AsymmetricFriction(Component):
     """Friction is larger (or smaller) when the shaft turns towards decreasing angle."""
 
     name = 'asymmetric_friction'
+    example = {'extra_negative_friction_n': 8.0}
+    circuits = ('servo',)
+    shares_host = True
+    excitation = 'slow constant-speed moves in both directions'
     neutral = {'extra_negative_friction_n': 0.0}
     summary = 'friction differs with the direction of motion'
     reference = 'direction-dependent seal friction'
@@ -303,6 +338,11 @@ class DeadVolume(Component):
     """Chamber dead volumes differ from the nominal (tubing, fittings)."""
 
     name = 'dead_volume'
+    example = {'extra_dead_volume_a_m3': 1.5e-5, 'extra_dead_volume_b_m3': 8e-6}
+    circuits = ('servo', 'blocked')
+    shares_host = True
+    excitation = ('charge/discharge steps with the pistons blocked (the pressure time constant '
+                  'at a known volume)')
     neutral = {'extra_dead_volume_a_m3': 0.0, 'extra_dead_volume_b_m3': 0.0}
     summary = 'chamber dead volumes differ from the nominal (tubing)'
     reference = 'tubing between valve and actuator'
@@ -320,6 +360,15 @@ class SensorDelay(Component):
     """All measurements lag the physical state by a pure delay (filters, DAQ buffering)."""
 
     name = 'sensor_delay'
+    example = {'measurement_delay_s': 0.008}
+    steady = False
+    shares_host = True
+    excitation = ('a supply-pressure step with the valve held open and the pistons blocked '
+                  '(only a measurement delay lags the response to supply)')
+    separated_from = {'transport_delay': (
+        'record a supply-pressure step with the valve held open and the pistons blocked: a '
+        'measurement delay lags the pressure response to the supply step, a command delay '
+        'does not (both lag command steps alike)')}
     neutral = {'measurement_delay_s': 0.0}
     summary = 'the measurements lag the physical state'
     reference = 'transmitter filtering and acquisition latency'

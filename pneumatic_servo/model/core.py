@@ -77,7 +77,8 @@ from ..effects.layout import (
     THETA,
     add_flow,
 )
-from ..physics.gas import orifice_flow
+from ..physics.gas import ideal_critical_ratio, orifice_flow
+from ..physics.mechanics import shaft_inertia
 from ..physics.valve import spool_displacement
 
 #: [s] time constant with which a stuck shaft's residual velocity inside the
@@ -97,7 +98,7 @@ def core_begin(t, x, u, ps, P, circuit, c, dx):
     c[C_R], c[C_KAPPA], c[C_CV], c[C_CP] = r, k, r / (k - 1.0), k * r / (k - 1.0)
     c[C_CIRCUIT] = circuit
     c[C_XV] = spool_displacement(u, P[K_NULL], P[K_GAIN], P[K_HALF_W] + P[K_HOLE_R])
-    c[C_INERTIA] = 0.5 * P[K_MP] * P[K_DF] ** 2 + P[K_J]
+    c[C_INERTIA] = shaft_inertia(P[K_MP], P[K_DF], P[K_J])
     swept = P[K_AREA] * P[K_DF]  # dV_a/dtheta, MODEL_NOTES 3
     if circuit == SERVO:
         th = min(max(x[THETA], 0.0), P[K_STROKE])
@@ -133,8 +134,8 @@ def core_end(t, x, P, circuit, c, dx):
     iso = c[C_ISOTHERMAL] > 0.5
     if circuit == FLOW:  # port 4 open to atmosphere through the flow meter
         kappa = c[C_KAPPA]
-        crit = (2.0 / (kappa + 1.0)) ** (kappa / (kappa - 1.0))
-        m4 = orifice_flow(P[K_OUTLET], x[P_A], x[T_A], c[C_PE], c[C_TE], crit, r, kappa, 0.005)
+        m4 = orifice_flow(P[K_OUTLET], x[P_A], x[T_A], c[C_PE], c[C_TE],
+                          ideal_critical_ratio(kappa), r, kappa, 0.005)
         add_flow(c, 0, -m4, c[C_TE], x[T_A])
         c[C_M4] = m4
     dx[P_A], dx[T_A] = _chamber(x[P_A], x[T_A], c[C_VA], c[C_DVA], c[C_MA], c[C_HA], c[C_QA],

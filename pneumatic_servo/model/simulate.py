@@ -100,6 +100,45 @@ def initial_state(model: Model, angle_rad: float = None, p_a_pa: float = None,
     return x
 
 
+def sensor_errors(model: Model, config: ModelConfig, signals: dict) -> dict[str, np.ndarray]:
+    """What the components' sensor errors add to the readings [SI], summed per signal, from
+    the physical ``signals`` (see ``Component.sensor_error``); empty if none has one."""
+    out: dict[str, np.ndarray] = {}
+    for comp in model.layout.classes:
+        if comp.sensor_error is not None:
+            for sig, err in comp.sensor_error(config.values_of(comp.name), signals,
+                                              config.core).items():
+                out[sig] = out.get(sig, 0.0) + err
+    return out
+
+
+def measured_states(model: Model, config: ModelConfig, t: np.ndarray, states: np.ndarray,
+                    command_v: np.ndarray, supply_pa: np.ndarray) -> np.ndarray:
+    """The states as the sensors show them: the components' sensor errors added to the
+    physical ``states`` (n, n_states) at times ``t``."""
+    signals = {name: states[:, i] for i, name in enumerate(CORE_STATE_NAMES)}
+    errors = sensor_errors(model, config, {**signals, 'command_v': command_v,
+                                           'supply_pa': supply_pa})
+    if not errors:
+        return states
+    out = states.copy()
+    for sig, err in errors.items():
+        out[:, CORE_STATE_NAMES.index(sig)] += err
+    return out
+
+
+def context(model: Model, x: np.ndarray, command_v: float, supply_pa: float,
+            config: ModelConfig = None, circuit: str = 'servo') -> np.ndarray:
+    """The context vector (see ``effects.layout``: named totals such as the torque and the
+    inertia on the shaft, flows, volumes) after one evaluation of the right-hand side at
+    state ``x`` [SI], with every component's contribution."""
+    cfg = config or model.config
+    c, dx = np.zeros(N_CONTEXT), np.zeros(model.n_states)
+    model.kernels['rhs'](0.0, np.asarray(x, float), command_v, supply_pa,
+                         model.param_vector(cfg), CIRCUITS[circuit], c, dx)
+    return c
+
+
 def _settle_effect_states(model: Model, x: np.ndarray, command_v: float, supply_pa: float,
                           P: np.ndarray, circuit: int, iterations: int = 30) -> None:
     """Newton on the effect-owned states (diagonal Jacobian) with the core states held."""
@@ -127,7 +166,7 @@ def _settle_effect_states(model: Model, x: np.ndarray, command_v: float, supply_
             return
 
 
-def _delayed(t: np.ndarray, values: np.ndarray, delay: float) -> np.ndarray:
+def delayed(t: np.ndarray, values: np.ndarray, delay: float) -> np.ndarray:
     """``values`` (n,) or (n, k) seen ``delay`` [s] later, linearly interpolated; held at start."""
     if delay <= 0.0:
         return values
@@ -155,15 +194,17 @@ def _check_inputs(t, command_v, supply_pa):
 
 def simulate(model=None, t=None, command_v=5.0, supply_pa=None, x0=None,
              circuit: str = 'servo', method: str = 'adaptive', rtol: float = DEFAULT_RTOL,
-             atol_scale: float = 1.0, substeps: int = 10, config: ModelConfig = None
-             ) -> SimResult:
+             atol_scale: float = 1.0, substeps: int = 10, config: ModelConfig = None,
+             measured: bool = True) -> SimResult:
     """Simulate ``model`` at sample times ``t`` [s] with ZOH valve ``command_v`` [V]
     and supply ``supply_pa`` [Pa abs] (scalars or arrays like ``t``).
 
     ``method`` is 'adaptive' (Dormand-Prince 5(4), ``rtol`` and per-state
     absolute tolerances times ``atol_scale``) or 'fixed' (RK4, ``substeps``
     per sample interval, as the real-time stepper). ``config`` overrides the
-    parameter values (same components) without recompiling.
+    parameter values (same components) without recompiling. The states are what
+    the sensors show (``measured``: the components' measurement delays applied),
+    or the physical states.
     """
     model = as_model(model)
     cfg = config or model.config
@@ -173,7 +214,7 @@ def simulate(model=None, t=None, command_v=5.0, supply_pa=None, x0=None,
         supply_pa = cfg.core['supply_pressure_pa']
     t, u, ps = _check_inputs(t, command_v, supply_pa)
     d_in, d_out = model.delays(cfg)
-    u_valve = _delayed(t, u, d_in)
+    u_valve = delayed(t, u, d_in)
     if x0 is None:
         x0 = initial_state(model, command_v=u_valve[0], supply_pa=ps[0], config=cfg,
                            circuit=circuit)
@@ -189,7 +230,9 @@ def simulate(model=None, t=None, command_v=5.0, supply_pa=None, x0=None,
                                      int(substeps), X, Y)
     if status != 0:
         raise SimulationError(f'simulation failed at t = {t[k]:.6g} s: {_STATUS[status]}')
-    return SimResult(t, _delayed(t, X, d_out), model.state_names, Y, circuit,
+    if measured:
+        X = delayed(t, measured_states(model, cfg, t, X, u_valve, ps), d_out)
+    return SimResult(t, X, model.state_names, Y, circuit,
                      {'command_v': u, 'supply_pa': ps})
 
 

@@ -13,6 +13,12 @@ _P_FLOOR = 1.0  # [Pa] keeps ratios finite if a solver probes an empty chamber
 
 
 @njit(cache=True)
+def ideal_critical_ratio(kappa):
+    """Critical pressure ratio of an ideal nozzle, (2 / (kappa + 1))^(kappa / (kappa - 1))."""
+    return (2.0 / (kappa + 1.0)) ** (kappa / (kappa - 1.0))
+
+
+@njit(cache=True)
 def flow_function(ratio, critical_ratio, kappa, laminar_band):
     """Dimensionless flow function psi(p_d/p_u) of Eq. 8.
 

@@ -17,8 +17,9 @@ checked against a known truth:
 * ``closed_port`` and ``flow``: static tables (CSV) of steady pressures and
   flows at held voltages.
 
-Magnitudes (:data:`HIDDEN_VALUES`) are realistic for a small rotary actuator
-and inside each parameter's plausible range. Sensors are those of the
+Magnitudes are each effect's declared ``example`` values (the effect class
+says them): realistic for a small rotary actuator and inside each parameter's
+plausible range. Sensors are those of the
 library (:mod:`pneumatic_servo.synth.sensors`): 20,000 P/R encoder, 0.1 % FS
 pressure transmitters (600 Pa), averaged flow meters, at 1 kHz by default
 (the committed test sets: 250 Hz, short records). No velocity is recorded.
@@ -37,6 +38,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .. import effects as registry
 from ..effects.layout import N_CONTEXT, P_A, P_B, THETA
 from ..errors import ConfigError
 from ..experiment import Experiment
@@ -45,22 +47,6 @@ from ..model.config import ModelConfig
 from ..model.simulate import DEFAULT_RTOL, initial_state, simulate
 from . import sensors as S
 
-#: hidden value of each catalogue effect's parameters [SI]: realistic, and inside the
-#: parameter's plausible range; the value the diagnosis must recover
-HIDDEN_VALUES = {
-    'valve_spool_dynamics': {'spool_time_constant_s': 0.008},
-    'transport_delay': {'command_delay_s': 0.015},
-    'valve_null_offset': {'null_offset_v': 0.12},
-    'valve_null_leakage': {'null_leak_area_m2': 4e-8},
-    'supply_pressure_drop': {'supply_line_area_m2': 7e-7},
-    'piston_seal_leakage': {'seal_leak_area_m2': 3e-8},
-    'external_leakage': {'leak_area_a_m2': 2e-8, 'leak_area_b_m2': 1.2e-8},
-    'external_load_torque': {'load_torque_n_m': 0.25},
-    'payload_inertia': {'payload_inertia_kg_m2': 6e-4},
-    'asymmetric_friction': {'extra_negative_friction_n': 8.0},
-    'dead_volume': {'extra_dead_volume_a_m3': 1.5e-5, 'extra_dead_volume_b_m3': 8e-6},
-    'sensor_delay': {'measurement_delay_s': 0.008},
-}
 #: supply of the paper's servo and charge/discharge tests, 0.6 MPa gauge [Pa, absolute]
 SUPPLY_PA = 701325.0
 #: the instruments: the library's (paper Tables 1 and 3), 1 kHz
@@ -78,19 +64,23 @@ def hidden_config(effects, base: ModelConfig | None = None) -> ModelConfig:
     Parameters
     ----------
     effects : iterable of str, or dict of str to dict
-        Effect names (values from :data:`HIDDEN_VALUES`), or name -> values [SI].
+        Effect names (each at its class's ``example`` values), or name -> values [SI].
     base : ModelConfig, optional
         The model the effects are added to.
     """
     cfg = (base or ModelConfig.paper()).copy()
-    items = effects.items() if isinstance(effects, dict) else [(n, None) for n in effects]
-    for name, values in items:
-        if values is None:
-            if name not in HIDDEN_VALUES:
-                raise ConfigError(f'no hidden magnitude for effect {name!r}; pass its values')
-            values = HIDDEN_VALUES[name]
+    for name, values in truth(effects).items():
         cfg = cfg.with_effect(name, values)
     return cfg
+
+
+def example_values(name: str) -> dict[str, float]:
+    """The realistic values [SI] effect ``name`` declares for generated data."""
+    example = registry.get(name).example
+    if example is None:
+        raise ConfigError(f'effect {name!r} declares no example values; give its class an '
+                          "'example' dict, or pass the values to hide")
+    return dict(example)
 
 
 # ----------------------------------------------------------------------------- sensors
@@ -118,20 +108,9 @@ def _settled_state(model: Model, cfg: ModelConfig, command_v: float, supply_pa: 
     t = _time(settle_s, 200.0)
     x0 = initial_state(model, angle_rad=angle_rad, command_v=command_v, supply_pa=supply_pa,
                        config=cfg)
-    res = simulate(model, t, command_v, supply_pa, x0=x0, config=cfg)
-    # the delayed record lags the physical state; the last physical state is what the rig holds
-    x = res.states[-1].copy()
-    if model.delays(cfg)[1] > 0:
-        x = simulate(model, t, command_v, supply_pa, x0=x0, config=_undelayed(cfg)).states[-1]
-    return x
-
-
-def _undelayed(cfg: ModelConfig) -> ModelConfig:
-    """``cfg`` with measurement delays set to zero (the physical state)."""
-    out = cfg.copy()
-    if 'sensor_delay' in out.effects:
-        out.effects['sensor_delay']['measurement_delay_s'] = 0.0
-    return out
+    # the physical state, not what a delayed measurement shows: the state the rig holds
+    return simulate(model, t, command_v, supply_pa, x0=x0, config=cfg,
+                    measured=False).states[-1].copy()
 
 
 def sine_experiment(cfg: ModelConfig, rng: np.random.Generator, duration_s: float = 4.0,
@@ -163,7 +142,7 @@ def _setpoints(duration_s: float, stroke: float):
 
 
 class _History:
-    """Linear interpolation into a uniformly sampled, growing record (as ``_delayed`` does)."""
+    """Linear interpolation into a uniformly sampled, growing record (as ``delayed`` does)."""
 
     def __init__(self, first, dt: float):
         self.rows = [np.asarray(first, dtype=float)]
@@ -352,25 +331,29 @@ def make_hidden_set(effects, seed: int = 0, designs=TIME_DESIGNS, durations=None
 
 
 def truth(effects) -> dict[str, dict[str, float]]:
-    """Hidden parameter values [SI] of ``effects`` (names or name -> values)."""
+    """Hidden parameter values [SI] of ``effects`` (names, each at its ``example`` values, or
+    name -> values)."""
     if isinstance(effects, dict):
         return {k: dict(v) for k, v in effects.items()}
-    return {name: dict(HIDDEN_VALUES[name]) for name in effects}
+    return {name: example_values(name) for name in effects}
 
 
 
 # ------------------------------------------------------------------------- on disk
-#: the committed test data sets: name -> (hidden effects, designs, seed); see
-#: :func:`generate_test_data`
-STATIC_EFFECTS = ('valve_null_offset', 'valve_null_leakage', 'supply_pressure_drop',
-                  'external_leakage')
+def designs_for(name: str) -> tuple[str, ...]:
+    """The designs that show effect ``name``: the time series, and the static tables where it
+    acts in a static circuit and shows in steady states (its class says both)."""
+    cls_ = registry.get(name)
+    shows = cls_.steady and set(cls_.circuits) & set(STATIC_DESIGNS)
+    return TIME_DESIGNS + (STATIC_DESIGNS if shows else ())
 
 
 def _datasets() -> dict[str, tuple[tuple[str, ...], tuple[str, ...], int]]:
+    """The committed test data sets: name -> (hidden effects, designs, seed); see
+    :func:`generate_test_data`."""
     out = {'none': ((), TIME_DESIGNS, 100)}
-    for i, name in enumerate(HIDDEN_VALUES):
-        static = STATIC_DESIGNS if name in STATIC_EFFECTS else ()
-        out[name] = ((name,), TIME_DESIGNS + static, 101 + i)
+    for i, name in enumerate(registry.CATALOGUE_NAMES):
+        out[name] = ((name,), designs_for(name), 101 + i)
     out['two_external_load_torque+piston_seal_leakage'] = (
         ('external_load_torque', 'piston_seal_leakage'), TIME_DESIGNS, 200)
     return out
@@ -468,7 +451,8 @@ def main(argv=None) -> int:
     return 0
 
 
-__all__ = ['HIDDEN_VALUES', 'TIME_DESIGNS', 'STATIC_DESIGNS', 'DATASETS', 'hidden_config',
+__all__ = ['example_values', 'designs_for', 'TIME_DESIGNS', 'STATIC_DESIGNS', 'DATASETS',
+           'hidden_config',
            'make_hidden_set', 'write_dataset', 'generate_test_data', 'write_demo_bag',
            'sine_experiment', 'closed_loop_experiment', 'blocked_experiment', 'static_table',
            'measure_servo', 'truth', 'DEMO_EFFECTS']

@@ -11,8 +11,13 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-from ..errors import ExperimentError
-from ..model.config import ModelConfig
+from .analysis.compare import compare, predictions
+from .analysis.diagnosis import apply, diagnose
+from .analysis.diagnosis.text import print_ladder
+from .analysis.report import write_compare_report, write_diagnosis_report
+from .errors import ExperimentError
+from .io import read_experiment
+from .model.config import ModelConfig
 
 #: the bundled record: a closed-loop run of a rig with hidden effects (synthetic)
 DEMO_BAG = 'hidden_effect_demo'
@@ -20,7 +25,7 @@ DEMO_BAG = 'hidden_effect_demo'
 
 def demo_bag() -> Path:
     """Path of the bundled demo bag (``bags/hidden_effect_demo`` of the source tree)."""
-    for root in (Path(__file__).resolve().parents[2], Path.cwd()):
+    for root in (Path(__file__).resolve().parents[1], Path.cwd()):
         path = root / 'bags' / DEMO_BAG
         if (path / 'metadata.yaml').exists():
             return path
@@ -31,10 +36,8 @@ def demo_bag() -> Path:
 
 def _compare(exp, config, out_dir: Path, label: str, say) -> dict:
     """Open-loop and k-step comparison, printed and reported (issue-4 compare if present)."""
-    from .compare import compare, predictions
     preds = predictions(exp, config)
     result = compare(exp, config, preds=preds)
-    from .report import write_compare_report
     write_compare_report(out_dir / f'compare_{label}', exp, preds, result, config)
     chans = result['channels']
     k_chans = result.get('k_step', {}).get('channels', {})
@@ -47,10 +50,8 @@ def _compare(exp, config, out_dir: Path, label: str, say) -> dict:
 
 def _round(i: int, exp, config, out_dir: Path, say):
     """One diagnose/apply round; returns (diagnosis, new config or None)."""
-    from ..cli.diagnose import print_ladder, write_report
-    from .diagnose import apply, diagnose
     result = diagnose([exp], config)
-    report = write_report(out_dir / f'diagnose_{i}', result, config)
+    report = write_diagnosis_report(out_dir / f'diagnose_{i}', result)
     spots = result.where.get('hot_spots', [])
     if spots:
         s = spots[0]
@@ -60,14 +61,15 @@ def _round(i: int, exp, config, out_dir: Path, say):
     text = result.where.get('residuals', {}).get('text')
     if text:
         say(f'  residual tests: {text}')
-    say(f'  diagnose round {i}: verdict {result.verdict} ({result.reason}); report {report}')
-    if result.winner is None:
+    say(f'  diagnose round {i}: status {result.status}, verdict {result.verdict} '
+        f'({result.reason}); report {report}')
+    if result.added is None:
         return result, None
     new = apply(result)
     path = out_dir / f'model_{i}.yaml'
-    new.save(path, header=f'discrepancy demo round {i}: added {result.verdict}')
-    say('  applied: ' + ', '.join(f'{k} = {v:.4g} +/- {result.winner.stderr[k]:.2g}'
-                                   for k, v in result.winner.params.items()) + f' -> {path}')
+    new.save(path, header=f'discrepancy demo round {i}: added {result.added.effect}')
+    say('  applied: ' + ', '.join(f'{k} = {v:.4g} +/- {result.added.stderr[k]:.2g}'
+                                   for k, v in result.added.params.items()) + f' -> {path}')
     print_ladder(result.ladder, say)
     return result, new
 
@@ -98,7 +100,6 @@ def run_discrepancy_demo(out_dir, bag=None, config: ModelConfig | None = None,
         ``ladder`` (of the last round), ``compare_before``/``compare_after``
         (channel metrics) and ``final_config`` (path).
     """
-    from ..io import read_experiment
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     bag = Path(bag) if bag is not None else demo_bag()
@@ -112,9 +113,10 @@ def run_discrepancy_demo(out_dir, bag=None, config: ModelConfig | None = None,
         ladder = result.ladder or ladder
         if new is None:
             break
-        found.append({'effect': result.verdict, 'params': dict(result.winner.params),
-                      'stderr': dict(result.winner.stderr),
-                      'error_reduction': result.winner.error_reduction})
+        found.append({'effect': result.added.effect, 'params': dict(result.added.params),
+                      'stderr': dict(result.added.stderr),
+                      'error_reduction': result.added.error_reduction,
+                      'status': result.status})
         config, last = new, out_dir / f'model_{i}.yaml'
     after = _compare(exp, config, out_dir, 'after', say)
     for f in found:  # later rounds refit the effects found earlier

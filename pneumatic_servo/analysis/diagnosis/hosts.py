@@ -1,0 +1,39 @@
+"""Compiled host models shared by candidates: each composition compiles in seconds, so
+effects that can be switched off by value are tried on one host instead of one each."""
+from __future__ import annotations
+
+from ... import effects as registry
+from ...model.config import ModelConfig
+
+
+def neutral(name: str) -> dict[str, float] | None:
+    """Values at which effect ``name`` adds exactly nothing (None if it has none)."""
+    return registry.get(name).neutral
+
+
+def shareable(name: str) -> bool:
+    """Effect ``name`` may sit switched off in a shared host (its class says so)."""
+    cls = registry.get(name)
+    return cls.shares_host and cls.neutral is not None
+
+
+def shared_host(config: ModelConfig) -> ModelConfig:
+    """``config`` plus every shareable registered effect it lacks, at neutral values.
+
+    It predicts exactly what ``config`` predicts, and trying any of those
+    effects on it needs no new compilation.
+    """
+    host = config
+    for name in registry.names():
+        if name not in host.effects and registry.get(name).slot is None and shareable(name):
+            host = host.with_effect(name, neutral(name))
+    return host
+
+
+def host_for(base: ModelConfig, name: str) -> ModelConfig:
+    """The model on which effect ``name`` is tried, starting at its neutral values if it has
+    any: the shared host, or ``base`` + the effect."""
+    host = shared_host(base) if shareable(name) else base.with_effect(name)
+    if neutral(name) is not None:
+        host = host.with_effect(name, neutral(name))
+    return host

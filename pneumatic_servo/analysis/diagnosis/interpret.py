@@ -1,0 +1,135 @@
+"""A discovered correction in the words an engineer would write: what it is, and the physics
+that usually causes it."""
+from __future__ import annotations
+
+import math
+
+from ...effects.corrections import REGRESSORS
+from ...model.config import ModelConfig
+
+TYPICAL = {r.name: r.typical for r in REGRESSORS}
+DESCRIPTION = {r.name: r.description for r in REGRESSORS}
+
+
+def leading(terms: dict[str, float]) -> str:
+    """The regressor whose term is largest at its typical size."""
+    return max(terms, key=lambda r: abs(terms[r]) * TYPICAL[r])
+
+
+def _moment(reg: str, c: float, terms: dict, core: dict) -> str:
+    if reg == 'constant':
+        return (f'a constant torque of {c:+.3g} N.m on the shaft: a load, a preload, or '
+                'gravity on an arm held near one angle')
+    if reg == 'angle':
+        rest = -terms.get('constant', 0.0) / c
+        where = f' about {rest:.2f} rad' if 'constant' in terms else ''
+        return (f'an extra torque that {"rises" if c > 0 else "falls"} with angle, about '
+                f'{c:+.3g} N.m/rad{where}: a return spring, or a gravity load on an arm')
+    if reg in ('sin_angle', 'cos_angle'):
+        return (f'a torque that varies with the {reg[:3]}e of the angle, {abs(c):.3g} N.m at '
+                'most: gravity on an offset mass that turns with the shaft')
+    if reg == 'velocity':
+        return (f'a torque proportional to speed, {c:+.3g} N.m.s/rad: '
+                + ('more viscous damping than the model has' if c < 0 else
+                   'less viscous damping than the model has'))
+    if reg == 'sign_velocity':
+        return (f'a torque of {abs(c):.3g} N.m that {"opposes" if c < 0 else "aids"} the '
+                'motion: ' + ('more Coulomb friction than the model has' if c < 0 else
+                              'less Coulomb friction than the model has'))
+    if reg == 'pressure_difference':
+        share = c / (core['piston_area_m2'] * core['pinion_pitch_diameter_m'])
+        return (f'a torque that grows with p_a - p_b, {100 * share:+.1f} % of the piston '
+                'torque: the effective piston area or pinion diameter is off by that share')
+    if reg in ('p_a', 'p_b'):
+        return (f'a torque that grows with {reg}, {c:+.3g} N.m/Pa: the two pistons (or '
+                'chambers) do not push with the same effective area')
+    return f'a torque that follows the {DESCRIPTION[reg]}, {c:+.3g} per unit'
+
+
+def _mass(chamber: str, reg: str, c: float, terms: dict, core: dict) -> str:
+    into = 'into' if c > 0 else 'out of'
+    if reg == 'constant':
+        return (f'a steady flow of {abs(c) * 1e3:.3g} g/s {into} chamber {chamber}: a leak '
+                + ('from the supply' if c > 0 else 'to atmosphere') + ' at a steady rate')
+    if reg in (f'p_{chamber}', f'sqrt_drop_{chamber}') and c < 0:
+        return (f'a flow out of chamber {chamber} that grows with its pressure: a leak from '
+                f'chamber {chamber} to atmosphere (a fitting, a rod seal)')
+    if reg == 'supply' and c > 0:
+        return (f'a flow from the supply into chamber {chamber}: the valve leaks from its '
+                f'supply port into the {chamber} side (a worn land or seal)')
+    if reg in ('pressure_difference', 'sqrt_pressure_difference'):
+        sign = c if chamber == 'b' else -c
+        return ('a flow between the chambers that grows with their pressure difference: a '
+                'leak across the pistons' if sign > 0 else
+                f'a flow {into} chamber {chamber} against the pressure difference')
+    if reg in ('command', 'abs_command', 'sign_command'):
+        return (f'a flow {into} chamber {chamber} that follows the valve command: the '
+                f'valve\'s flow gain on the {chamber} side differs from the model\'s')
+    if reg == 'velocity':
+        return (f'a flow that follows the shaft speed: the swept volume of chamber {chamber} '
+                'differs from the model\'s (piston area or pinion)')
+    if reg in ('angle', 'sin_angle', 'cos_angle'):
+        return (f'a flow {into} chamber {chamber} that changes with angle: a leak that opens '
+                'over part of the stroke')
+    return f'a flow {into} chamber {chamber} that follows the {DESCRIPTION[reg]}'
+
+
+def _valve(reg: str, c: float, terms: dict, core: dict) -> str:
+    if reg == 'constant':
+        return (f'the valve acts as if the command were {c:+.3g} V off: its null is offset')
+    if reg == 'command':
+        return f'the valve\'s gain around its null differs by {100 * c:+.1f} %'
+    if reg == 'sign_command':
+        return (f'a step of {abs(c):.3g} V at the valve centre: a nonlinearity of the valve '
+                'around its null (' + ('a dead band: spool overlap' if c < 0 else
+                                      'a jump: spool underlap') + ')')
+    if reg == 'abs_command':
+        return ('the valve opens differently to either side of its null: an asymmetry of '
+                'the valve around its centre')
+    if reg in ('p_a', 'p_b', 'supply', 'pressure_difference'):
+        return (f'the valve\'s effective opening follows the {DESCRIPTION[reg]}: flow forces '
+                'on the spool, or a pressure-dependent driver')
+    return f'an extra valve command that follows the {DESCRIPTION[reg]}'
+
+
+def _measurement(signal: str, reg: str, c: float, terms: dict, core: dict) -> str:
+    if signal == 'angle':
+        if reg == 'constant':
+            return f'the angle sensor reads {math.degrees(c):+.3g} deg off: an encoder zero offset'
+        if reg == 'angle':
+            return f'the angle sensor\'s scale is off by {100 * c:+.2f} %'
+        if reg == 'velocity':
+            return (f'the angle reading is {1e3 * abs(c):.3g} ms '
+                    f'{"early" if c > 0 else "late"}: a timing error of the angle sensor')
+        return f'an error of the angle reading that follows the {DESCRIPTION[reg]}'
+    chamber = signal[-1]
+    if reg == 'constant':
+        return (f'chamber {chamber} pressure reads {c / 1e3:+.3g} kPa off: a transmitter '
+                'offset (a gauge reading would be about -101 kPa)')
+    if reg == f'p_{chamber}':
+        return f'the chamber {chamber} transmitter\'s gain is off by {100 * c:+.2f} %'
+    return (f'an error of the chamber {chamber} pressure reading that follows the '
+            f'{DESCRIPTION[reg]}: crosstalk or a wiring fault')
+
+
+def interpret(equation: str, terms: dict[str, float], config: ModelConfig) -> str:
+    """One sentence on a correction of ``equation`` with ``terms`` (regressor -> coefficient,
+    SI): what it is, after its leading term, and the physics that usually causes it; a sensor
+    error is called one, never a change of the physics."""
+    if not terms:
+        return 'no term'
+    reg = leading(terms)
+    c, core = terms[reg], config.core
+    if equation == 'moment_balance':
+        text = _moment(reg, c, terms, core)
+    elif equation.startswith('mass_balance_'):
+        text = _mass(equation[-1], reg, c, terms, core)
+    elif equation == 'valve_input':
+        text = _valve(reg, c, terms, core)
+    else:
+        text = 'a sensor error, not missing physics: ' + _measurement(
+            equation.removeprefix('measurement_'), reg, c, terms, core)
+    others = [r for r in terms if r != reg]
+    if others:
+        text += ' (with ' + ', '.join(f'{r} {terms[r]:+.3g}' for r in others) + ')'
+    return text

@@ -1,0 +1,54 @@
+"""Held-out scores of models and the information criterion that weighs added parameters."""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ...fitting import residual_rows, stack
+from ...model.assembly import Model
+from ...model.config import ModelConfig
+from .data import Data
+
+
+@dataclass
+class Score:
+    """Held-out residual of one model: normalised RMS per channel and overall."""
+
+    channels: dict[str, float]
+    overall: float
+    #: pooled normalised residual vector (for the information criterion)
+    residual: np.ndarray = field(repr=False, default=None)
+
+    @classmethod
+    def of(cls, row: dict[str, np.ndarray]) -> 'Score':
+        pooled = stack(row)
+        return cls({ch: float(np.sqrt(np.mean(r ** 2))) for ch, r in row.items()},
+                   float(np.sqrt(np.mean(pooled ** 2))), pooled)
+
+    def to_json(self) -> dict:
+        return {'overall': self.overall, 'channels': dict(self.channels)}
+
+
+def score_many(model: Model, data: Data, configs: list[ModelConfig]) -> list[Score]:
+    """Held-out scores of several configs of one composition, simulated together."""
+    return [Score.of(row) for row in residual_rows(model, data.val, configs)]
+
+
+def information_criteria(base: Score, cand: Score, k: int, n_eff: float
+                         ) -> tuple[float, float]:
+    """(delta AIC, delta BIC) of a candidate adding ``k`` parameters, on ``n_eff`` samples.
+
+    Gaussian likelihood on the held-out residual: n ln(RSS_1/RSS_0) plus the
+    penalty; ``n_eff`` discounts the residual's autocorrelation, without
+    which any tiny improvement on thousands of samples looks significant.
+    """
+    ratio = max(cand.overall, 1e-300) ** 2 / max(base.overall, 1e-300) ** 2
+    fit_term = n_eff * math.log(ratio)
+    return fit_term + 2.0 * k, fit_term + k * math.log(n_eff)
+
+
+def relative_fall(new: float, old: float) -> float:
+    """1 - new / old: the fraction by which an error fell (0 if there was none)."""
+    return float(1.0 - new / old) if old > 0 else 0.0

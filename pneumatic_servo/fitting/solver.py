@@ -1,0 +1,112 @@
+"""The one solver: scipy's bounded trust-region least squares on a :class:`~.problem.Problem`.
+
+Each call of the residual function simulates the point *and* its
+finite-difference probes in one parallel batch and keeps the Jacobian for the
+solver's next request: a trial step that is accepted then costs one batch,
+not two.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy.optimize import least_squares
+
+from ..model.config import ModelConfig
+from .problem import Problem
+from .uncertainty import uncertainty
+
+
+@dataclass
+class Fit:
+    """Fitted values [SI] and what the data say about them.
+
+    ``cost`` is the sum of squared normalised residuals on the fitted data;
+    ``residual`` the residual vector at the solution.
+    """
+
+    config: ModelConfig
+    keys: list[str]
+    values: dict[str, float]
+    stderr: dict[str, float]
+    correlation: np.ndarray
+    cost: float
+    at_bound: list[str]
+    converged: bool
+    message: str
+    evaluations: int
+    n_data: int
+    n_eff: float
+    residual: np.ndarray = field(repr=False, default=None)
+    #: normalised RMS residual per channel (filled by output-error fits)
+    rms: dict[str, float] = field(default_factory=dict)
+
+    @property
+    def free(self) -> list[str]:
+        return self.keys
+
+    @property
+    def success(self) -> bool:
+        return self.converged
+
+
+def bracket_search(prob: Problem, x: np.ndarray, cost: float, rounds: int = 3,
+                   points: int = 7) -> tuple[np.ndarray, float]:
+    """Shrinking-bracket search along each parameter in turn, each round one batch.
+
+    Stick-slip and end stops make the fit cost rough on small scales, so a
+    local gradient can point the wrong way; trying a spread of values and
+    narrowing around the best is robust to that and still cheap in batches.
+    """
+    x = x.copy()
+    for i in range(len(x)):
+        half = max(0.5 * abs(x[i]), 0.05 * prob.span[i])
+        for _ in range(rounds):
+            vals = np.unique(np.clip(x[i] + half * np.linspace(-1.0, 1.0, points),
+                                     prob.lo[i], prob.hi[i]))
+            trials = [np.where(np.arange(len(x)) == i, v, x) for v in vals]
+            c = prob.costs(trials)
+            j = int(np.argmin(c))
+            if c[j] < cost:
+                x, cost = trials[j], float(c[j])
+            half *= 0.35
+    return x, cost
+
+
+def fit(prob: Problem, x0=None, max_nfev: int = 40, xtol: float = 1e-6, ftol: float = 1e-8,
+        bracket: bool = False) -> Fit:
+    """Fit ``prob``'s parameters from ``x0`` (default: the config's values, inside the bounds).
+
+    Parameters
+    ----------
+    prob : Problem
+    x0 : array, optional
+        Start values [SI].
+    max_nfev : int
+        Most residual evaluations of the solver (each one batch with its probes).
+    xtol, ftol : float
+        scipy's relative tolerances on the step and on the fall of the cost.
+    bracket : bool
+        Run :func:`bracket_search` first (for costs that stick-slip makes rough).
+    """
+    x = np.asarray([prob.config.get(k) for k in prob.keys] if x0 is None else x0, float)
+    x = np.clip(x, prob.lo, prob.hi)
+    if bracket:
+        x, _ = bracket_search(prob, x, float(prob.costs([x])[0]))
+    cache: dict[bytes, tuple[np.ndarray, np.ndarray]] = {}
+
+    def evaluate(v):
+        key = np.asarray(v, float).tobytes()
+        if key not in cache:
+            cache.clear()
+            cache[key] = prob.evaluate(np.asarray(v, float))
+        return cache[key]
+
+    sol = least_squares(lambda v: evaluate(v)[0], x, jac=lambda v: evaluate(v)[1],
+                        bounds=(prob.lo, prob.hi), x_scale=prob.scale, method='trf',
+                        max_nfev=max_nfev, xtol=xtol, ftol=ftol)
+    r, jac = evaluate(sol.x)
+    unc = uncertainty(prob.keys, sol.x, r, jac, prob.lo, prob.hi)
+    return Fit(prob.config_at(sol.x), prob.keys, dict(zip(prob.keys, map(float, sol.x))),
+               unc.stderr, unc.correlation, float(r @ r), unc.at_bound, bool(sol.success),
+               str(sol.message), prob.evaluations, len(r), unc.n_eff, r)

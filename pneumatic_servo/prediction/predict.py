@@ -1,0 +1,94 @@
+"""Predict a recorded experiment for many parameter sets of one composition, in one batch."""
+from __future__ import annotations
+
+import numpy as np
+
+from ..effects.layout import OMEGA, P_A, P_B, T_A, T_B, THETA
+from ..errors import ExperimentError, SimulationError
+from ..experiment import Experiment
+from ..model.assembly import Model
+from ..model.circuits import predict_static
+from ..model.config import ModelConfig
+from ..model.simulate import DEFAULT_RTOL, delayed, measured_states, simulate_batch
+from .inputs import config_for, smoothed_signals, valve_inputs
+from .plans import Plan, open_loop
+from .start import start_states, windows
+
+#: predicted signal -> index in the state vector
+STATE_SIGNALS = {'angle_rad': THETA, 'velocity_rad_s': OMEGA, 'p_a_pa': P_A, 'p_b_pa': P_B,
+                 't_a_k': T_A, 't_b_k': T_B}
+
+
+def _check(exp: Experiment) -> None:
+    if 'command_v' not in exp.signals:
+        raise ExperimentError(f'{exp.name or "experiment"}: no valve command recorded; record '
+                              'valve/command')
+
+
+def predict(model: Model, exp: Experiment, configs: list[ModelConfig], plan: Plan | None = None,
+            rtol: float = DEFAULT_RTOL) -> list[dict[str, np.ndarray]]:
+    """Predicted signals of ``exp`` for each config (one composition, ``model``'s), in parallel.
+
+    Parameters
+    ----------
+    model : Model
+        The compiled composition every config belongs to.
+    exp : Experiment
+        A time series (any circuit) or a static table.
+    configs : list of ModelConfig
+        Parameter sets; each is first adjusted to the record (:func:`config_for`).
+    plan : Plan, optional
+        Which samples to predict from where (default :func:`~.plans.open_loop`);
+        ignored for a static table, which is solved row by row for steady states.
+    rtol : float
+        Relative tolerance of the integrator.
+
+    Returns
+    -------
+    list of dict
+        Per config, signal -> array on ``exp.t`` (the states of
+        :data:`STATE_SIGNALS`; NaN outside the plan's segments). A config whose
+        simulation fails gets NaN throughout.
+    """
+    cfgs = [config_for(exp, cfg) for cfg in configs]
+    if exp.static:
+        return [predict_static(model, exp, cfg) for cfg in cfgs]
+    _check(exp)
+    plan = plan or open_loop(exp)
+    signals = smoothed_signals(exp) if plan.smooth_start else exp.signals
+    us, pss, params, d_outs = [], [], [], []
+    for cfg in cfgs:
+        d_in, d_out = model.delays(cfg)
+        u, ps = valve_inputs(exp, signals, cfg, d_in, d_out, plan.open_loop)
+        us.append(u)
+        pss.append(ps)
+        params.append(model.param_vector(cfg))
+        d_outs.append(d_out if plan.open_loop else 0.0)
+    segs = plan.segments
+    X0 = start_states(model, exp, signals, cfgs, us, pss, params, segs, plan.lead_s)
+    win = max(b - a for a, b in segs)
+    P = np.repeat(np.array(params), len(segs), axis=0)
+    tw = exp.t[:win] - exp.t[0]
+    XB, _, status = simulate_batch(model, tw, windows(win, segs, us), windows(win, segs, pss),
+                                   X0, P, exp.circuit, rtol=rtol)
+    out = []
+    for j in range(len(cfgs)):
+        rows = range(j * len(segs), (j + 1) * len(segs))
+        X = np.full((len(exp.t), model.n_states), np.nan)
+        if np.all(status[rows.start:rows.stop] == 0):
+            for r, (a, b) in zip(rows, segs):
+                X[a:b] = delayed(tw[:b - a], XB[r, :b - a], d_outs[j])
+            X = measured_states(model, cfgs[j], exp.t, X, us[j], pss[j])
+        out.append({name: X[:, idx] for name, idx in STATE_SIGNALS.items()})
+    return out
+
+
+def predict_checked(model: Model, exp: Experiment, config: ModelConfig | None = None,
+                    plan: Plan | None = None, rtol: float = DEFAULT_RTOL
+                    ) -> dict[str, np.ndarray]:
+    """Predicted signals of one experiment (see :func:`predict`); raises if the model could
+    not be simulated over it."""
+    pred = predict(model, exp, [config or model.config], plan, rtol)[0]
+    if any(np.isnan(v).all() for v in pred.values()):
+        raise SimulationError(f'{exp.name}: the model could not be simulated over this record')
+    return pred

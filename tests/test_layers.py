@@ -1,0 +1,95 @@
+"""The layering is enforced, not only documented: every import in the package, including
+those inside functions, points to the importer's own package or a lower layer.
+
+    physics -> effects -> model -> prediction -> fitting
+      -> {identification, analysis, control} -> {io, rig} -> {synth, fleet, testing, workflow}
+      -> ros -> cli
+
+(``_jit``, ``errors`` and ``__version__`` are below everything; ``experiment``, the data
+type every layer above the model passes around, sits with the model.)
+"""
+import ast
+from pathlib import Path
+
+import pneumatic_servo
+
+LAYERS = (
+    ('', '_jit', 'errors', '__version__'),
+    ('physics',),
+    ('effects',),
+    ('model', 'experiment'),
+    ('prediction',),
+    ('fitting',),
+    ('identification', 'analysis', 'control'),
+    ('io', 'rig'),
+    ('synth', 'fleet', 'testing', 'workflow'),
+    ('ros',),
+    ('cli',),
+)
+LAYER = {name: i for i, names in enumerate(LAYERS) for name in names}
+ROOT = Path(pneumatic_servo.__file__).parent
+
+
+def _module(path: Path) -> tuple[str, bool]:
+    parts = ('pneumatic_servo',) + path.relative_to(ROOT).with_suffix('').parts
+    if parts[-1] == '__init__':
+        return '.'.join(parts[:-1]), True
+    return '.'.join(parts), False
+
+
+def _targets(node, module: str, is_package: bool) -> list[str]:
+    if isinstance(node, ast.Import):
+        return [a.name for a in node.names]
+    if node.level:
+        base = module.split('.') if is_package else module.split('.')[:-1]
+        base = base[:len(base) - (node.level - 1)]
+        prefix = '.'.join(base + ([node.module] if node.module else []))
+    else:
+        prefix = node.module or ''
+    if node.module:
+        return [prefix]
+    return [f'{prefix}.{a.name}' for a in node.names]
+
+
+def package_imports():
+    """(importing file, line, importer's package, imported package) for every import of a
+    pneumatic_servo module, at any depth of the syntax tree."""
+    out = []
+    for path in sorted(ROOT.rglob('*.py')):
+        module, is_package = _module(path)
+        for node in ast.walk(ast.parse(path.read_text(), str(path))):
+            if not isinstance(node, (ast.Import, ast.ImportFrom)):
+                continue
+            for target in _targets(node, module, is_package):
+                if target == 'pneumatic_servo' or target.startswith('pneumatic_servo.'):
+                    src = module.split('.')[1] if '.' in module else ''
+                    dst = target.split('.')[1] if '.' in target else ''
+                    out.append((path.relative_to(ROOT.parent), node.lineno, src, dst))
+    return out
+
+
+def test_every_package_has_a_layer():
+    packages = {p.name for p in ROOT.iterdir() if (p / '__init__.py').exists()}
+    modules = {p.stem for p in ROOT.glob('*.py') if p.stem != '__init__'}
+    assert (packages | modules) - set(LAYER) == set()
+
+
+def test_no_import_points_up_or_sideways():
+    found = package_imports()
+    assert len(found) > 100  # the walk sees the package's own imports
+    wrong = [f'{path}:{line}: {src} imports {dst}' for path, line, src, dst in found
+             if src != dst and (LAYER[dst] > LAYER[src]
+                                or (LAYER[dst] == LAYER[src] and dst != ''))]
+    assert not wrong, 'imports against the layers:\n' + '\n'.join(wrong)
+
+
+def test_the_walk_sees_imports_inside_functions():
+    """An import inside a function body (the demo loads rclpy only for its ROS stage) is one
+    of the edges the layer test checks."""
+    path = ROOT / 'cli' / 'demo.py'
+    inner = [node.lineno for fn in ast.walk(ast.parse(path.read_text()))
+             if isinstance(fn, ast.FunctionDef) for node in ast.walk(fn)
+             if isinstance(node, ast.ImportFrom)]
+    assert inner
+    seen = {(p.name, line) for p, line, _, _ in package_imports()}
+    assert all(('demo.py', line) in seen for line in inner)
