@@ -24,3 +24,8 @@ def njit(func=None, **options):
 
 #: ``numba.prange`` when compiling (parallel loops), ``range`` otherwise
 prange = _numba.prange if ENABLED else range
+
+
+def is_compiled(func) -> bool:
+    """True if ``func`` is already a numba dispatcher (or compilation is off)."""
+    return not ENABLED or hasattr(func, 'py_func')

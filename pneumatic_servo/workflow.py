@@ -14,7 +14,8 @@ from pathlib import Path
 from .analysis.compare import compare, predictions
 from .analysis.diagnosis import apply, diagnose
 from .analysis.diagnosis.text import print_ladder
-from .analysis.report import write_compare_report, write_diagnosis_report
+from .analysis.diagnosis_report import write_diagnosis_report
+from .analysis.report import write_compare_report
 from .errors import ExperimentError
 from .io import read_experiment
 from .model.config import ModelConfig

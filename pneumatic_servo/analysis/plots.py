@@ -57,7 +57,8 @@ def plot_overlays(out_dir: Path, experiments, predictions: dict[str, list[dict]]
                 if sig in preds[i]:
                     ax.plot(x, np.asarray(preds[i][sig]) * f, color=col, label=label,
                             **(dict(ls='', marker='x', ms=3) if exp.static else dict(lw=0.8)))
-            ax.set_title(f'{exp.name}: {sig}', fontsize=9)
+            label = next((c.label for c in CHANNELS.values() if c.signal == sig), sig)
+            ax.set_title(f'{exp.name}: {label} [{unit}]', fontsize=9)
             ax.set_xlabel('command [V]' if exp.static else 't [s]', fontsize=8)
             ax.set_ylabel(unit, fontsize=8)
             ax.tick_params(labelsize=7)
@@ -101,19 +102,19 @@ def plot_regime_heatmap(out_dir: Path, shares, name: str = 'regimes.png') -> str
                    key=lambda c: list(CHANNELS).index(c) if c in CHANNELS else 9)
     rows = [s for s in shares if s.time_share > 0]
     data = np.array([[s.concentration(ch) for ch in chans] for s in rows])
-    fig, ax = plt.subplots(figsize=(2.2 + 1.9 * len(chans), 0.36 * len(rows) + 1.4))
+    fig, ax = plt.subplots(figsize=(2.6 + 2.4 * len(chans), 0.42 * len(rows) + 1.6))
     im = ax.imshow(np.log2(np.clip(np.nan_to_num(data, nan=1.0), 1 / 8, 8)), cmap='RdBu_r',
                    vmin=-3, vmax=3, aspect='auto')
     for i, s in enumerate(rows):
         for j, ch in enumerate(chans):
             e = s.error_share.get(ch, float('nan'))
             ax.text(j, i, f'{100 * e:.0f}% / {100 * s.time_share:.0f}%', ha='center',
-                    va='center', fontsize=7)
-    ax.set_xticks(range(len(chans)), [CHANNEL_LABELS.get(c, c) for c in chans], fontsize=8)
-    ax.set_yticks(range(len(rows)), [f'{s.family}: {s.regime}' for s in rows], fontsize=8)
+                    va='center', fontsize=10)
+    ax.set_xticks(range(len(chans)), [CHANNEL_LABELS.get(c, c) for c in chans], fontsize=10)
+    ax.set_yticks(range(len(rows)), [f'{s.family}: {s.regime}' for s in rows], fontsize=10)
     cbar = fig.colorbar(im, ax=ax)
     cbar.set_label('log2(error share / time share)', fontsize=8)
-    ax.set_title('Share of squared error / share of time, per regime', fontsize=9)
+    ax.set_title('Share of squared error / share of time, per regime', fontsize=11)
     fig.tight_layout()
     return _save(fig, out_dir, name)
 
@@ -185,9 +186,46 @@ def plot_ladder(out_dir: Path, ladder: list[dict], name: str = 'ladder.png') -> 
                 label=CHANNEL_LABELS.get(ch, ch))
     ax.plot(range(len(labels)), [r['overall'] for r in ladder], 'ks--', label='overall')
     ax.set_xticks(range(len(labels)), labels, fontsize=8, rotation=15)
-    ax.set_ylabel('held-out RMS / channel spread', fontsize=8)
+    ax.set_ylabel('held-out RMS error / channel spread\n(lower is better)', fontsize=8)
     ax.set_yscale('log')
     ax.legend(fontsize=7)
     ax.set_title('The error falls as effects are added (held-out data)', fontsize=9)
+    fig.tight_layout()
+    return _save(fig, out_dir, name)
+
+
+def plot_equation_residual(out_dir: Path, points: list[tuple], equation: str, regressor: str,
+                           unit: str, reg_unit: str, name: str = 'equation_residual.png'
+                           ) -> str:
+    """The residual of ``equation`` [``unit``] against the leading regressor of a discovered
+    correction, with binned medians and the correction's own value at the same samples.
+
+    ``points`` holds (regressor values, residual, correction) arrays per experiment.
+    """
+    plt = _plt()
+    x = np.concatenate([p[0] for p in points])
+    y = np.concatenate([p[1] for p in points])
+    term = np.concatenate([p[2] for p in points])
+    fig, ax = plt.subplots(figsize=(7.5, 4.2))
+    keep = np.random.default_rng(0).permutation(len(x))[:4000]
+    ax.plot(x[keep], y[keep], '.', ms=2, color='0.65', label='residual at each sample')
+    edges = np.quantile(x, np.linspace(0.0, 1.0, 21))
+    mids, med, fit = [], [], []
+    for lo, hi in zip(edges[:-1], edges[1:]):
+        m = (x >= lo) & (x <= hi)
+        if m.sum() >= 10:
+            mids.append(np.median(x[m]))
+            med.append(np.median(y[m]))
+            fit.append(np.median(term[m]))
+    ax.plot(mids, med, 'o-', color='tab:red', label='binned median')
+    ax.plot(mids, fit, 's--', color='tab:blue', label='the discovered correction')
+    lo, hi = np.percentile(y, [1, 99])
+    pad = 0.2 * (hi - lo) or 1.0
+    ax.set_ylim(lo - pad, hi + pad)
+    ax.axhline(0.0, color='k', lw=0.5)
+    ax.set_xlabel(f'{regressor} [{reg_unit}]', fontsize=9)
+    ax.set_ylabel(f'{equation} residual [{unit}]', fontsize=9)
+    ax.set_title(f'What the {equation} lacks, against {regressor}', fontsize=10)
+    ax.legend(fontsize=8)
     fig.tight_layout()
     return _save(fig, out_dir, name)

@@ -294,8 +294,12 @@ def summary(experiments: list[Experiment], predictions: list[dict],
     if moves:
         top = ', '.join(f'{k} (r = {r:+.2f})' for k, r in list(moves.items())[:3])
         text += f'; its {worst} residual moves with {top}'
-    if abs(peak) > t.xcorr_band:
+    at_edge = abs(lag) >= t.xcorr_lags_s[-1] - 1e-9  # a peak at the window's end: no lag found
+    if abs(peak) > t.xcorr_band and not at_edge:
         text += f'; it follows the command at a lag of {1000 * lag:.0f} ms (r = {peak:+.2f})'
+    elif abs(peak) > t.xcorr_band:
+        text += (f'; it correlates with the command (r = {peak:+.2f}) but at no lag within '
+                 f'+/- {1000 * t.xcorr_lags_s[-1]:.0f} ms')
     if white:
         text += '; it is close to white (little left to explain)'
     return {'equation': equation, 'channel': worst, 'relative_rms': rel,

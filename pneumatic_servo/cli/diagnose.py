@@ -21,8 +21,9 @@ from pathlib import Path
 import numpy as np
 
 from ..analysis.diagnosis import DiagnoseOptions, apply, diagnose, text
+from ..analysis.diagnosis.emit import class_name, effect_source
 from ..analysis.diagnosis.options import MIN_REDUCTION
-from ..analysis.report import write_diagnosis_report
+from ..analysis.diagnosis_report import write_diagnosis_report
 from ..errors import ConfigError
 from ..io import read_experiment
 from ..model.config import ModelConfig
@@ -41,6 +42,9 @@ def add_parser(sub) -> argparse.ArgumentParser:
     p.add_argument('--report', metavar='DIR', help='write an HTML report with plots into DIR')
     p.add_argument('--apply', metavar='OUT.yaml',
                    help='write the model with the winning effect added and fitted')
+    p.add_argument('--emit-effect', metavar='PATH.py',
+                   help='write the best discovered correction as a user effect class (a '
+                        'Python file to rename and use as PATH.py:Class)')
     p.add_argument('--free', metavar='KEY,...', default='',
                    help="base parameters refitted with every candidate, e.g. "
                         "'stribeck_friction.coulomb_friction_n'")
@@ -114,6 +118,22 @@ def run(args) -> int:
         else:
             apply(result).save(args.apply, header=text.apply_header(result))
             print(f'wrote {args.apply} (model + {result.added.effect})')
+    if args.emit_effect:
+        emit_effect(result, args.emit_effect)
     if args.report:
-        say(f'wrote {write_diagnosis_report(args.report, result)}')
+        applied = args.apply if args.apply and result.added is not None else None
+        emitted = args.emit_effect if args.emit_effect and result.discovered else None
+        say(f'wrote {write_diagnosis_report(args.report, result, applied, emitted)}')
     return 0
+
+
+def emit_effect(result, path: str) -> None:
+    """Write the best discovered correction as a user effect (or say there is none)."""
+    term = result.added if result.added in result.discovered else (
+        result.discovered[0] if result.discovered else None)
+    if term is None:
+        print(f'no discovered correction to emit (status {result.status}); {path} not written')
+        return
+    Path(path).write_text(effect_source(term, result.experiments))
+    print(f'wrote {path}: {class_name(term.equation)}, {term.interpretation}; use it as '
+          f'{path}:{class_name(term.equation)}')

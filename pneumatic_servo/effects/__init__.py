@@ -9,8 +9,12 @@ from __future__ import annotations
 
 import difflib
 import importlib
+import importlib.util
+import sys
 from importlib.metadata import entry_points
+from pathlib import Path
 
+from .._jit import is_compiled, njit
 from ..errors import ConfigError
 from .base import Component, Param, State
 from .catalogue import CATALOGUE
@@ -22,21 +26,33 @@ __all__ = ['Component', 'Param', 'State', 'register', 'get', 'names', 'CATALOGUE
 
 _REGISTRY: dict[str, type[Component]] = {}
 CATALOGUE_NAMES = tuple(c.name for c in CATALOGUE)
+#: classes imported by "module:Class" name, under that name (registered under their own)
+_IMPORTED: dict[str, type[Component]] = {}
 _entry_points_loaded = False
 
 
+STAGE_HOOKS = ('valve', 'supply', 'geometry', 'flows', 'heat', 'mechanics', 'finish')
+
+
 def register(cls: type[Component]) -> type[Component]:
-    """Register a component class under ``cls.name``; usable as a decorator."""
+    """Register a component class under ``cls.name``; usable as a decorator.
+
+    Hooks written as plain Python functions are compiled here (with numba, when
+    it is on), so a user's effect needs no decorator of its own.
+    """
     if not (isinstance(cls, type) and issubclass(cls, Component)) or not cls.name:
         raise ConfigError(f'{cls!r} is not a Component subclass with a name; subclass '
                           'pneumatic_servo.effects.Component and set name')
     if cls.slot is None and not (cls.params or cls.states or any(
-            cls.hook(s) for s in ('valve', 'supply', 'geometry', 'flows', 'heat',
-                                  'mechanics', 'finish'))) \
+            cls.hook(s) for s in STAGE_HOOKS)) \
             and cls.input_delay_s is Component.input_delay_s \
             and cls.output_delay_s is Component.output_delay_s and cls.sensor_error is None:
         raise ConfigError(f'effect {cls.name!r} adds nothing: give it a hook, a delay or a '
                           'sensor error')
+    for stage in STAGE_HOOKS:
+        hook = cls.__dict__.get(stage)
+        if hook is not None and not is_compiled(hook):
+            setattr(cls, stage, njit(hook))
     _REGISTRY[cls.name] = cls
     return cls
 
@@ -53,17 +69,41 @@ def _load_entry_points() -> None:
             raise ConfigError(f'entry point {ep.name!r} ({ep.value}) failed to load: {exc}')
 
 
+def _import_module(module: str):
+    """A module by dotted name, or from a ``.py`` file path (a file that ``diagnose
+    --emit-effect`` wrote)."""
+    if module.endswith('.py'):
+        path = Path(module)
+        spec = importlib.util.spec_from_file_location(path.stem, path)
+        if spec is None or not path.is_file():
+            raise ImportError(f'no Python file {module}')
+        mod = importlib.util.module_from_spec(spec)
+        sys.modules[path.stem] = mod
+        spec.loader.exec_module(mod)
+        return mod
+    return importlib.import_module(module)
+
+
 def get(name: str) -> type[Component]:
-    """The component class registered as ``name``, or ``"module:Class"`` imported on demand."""
+    """The component class registered as ``name``, or one imported on demand from
+    ``"package.module:Class"`` or ``"path/to/file.py:Class"``; a class so imported keeps
+    that name in ``source``, so that a saved config imports it again."""
     if name in _REGISTRY:
         return _REGISTRY[name]
+    if name in _IMPORTED:
+        return _IMPORTED[name]
     if ':' in name:
-        module, _, attr = name.partition(':')
+        module, _, attr = name.rpartition(':')
         try:
-            cls = getattr(importlib.import_module(module), attr)
-        except (ImportError, AttributeError) as exc:
-            raise ConfigError(f'cannot import effect class {name!r}: {exc}')
-        return register(cls)
+            cls = getattr(_import_module(module), attr)
+        except Exception as exc:  # a user's module: any error it raises is the user's to fix
+            reason = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+            raise ConfigError(f'cannot import effect class {name!r}: {reason}; check the '
+                              'module path and the class name') from None
+        cls = register(cls)
+        cls.source = name
+        _IMPORTED[name] = cls
+        return cls
     _load_entry_points()
     if name in _REGISTRY:
         return _REGISTRY[name]

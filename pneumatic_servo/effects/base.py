@@ -70,6 +70,9 @@ class Component:
     """
 
     name: ClassVar[str] = ''
+    #: ``"module:Class"`` (or ``"file.py:Class"``) the class was imported from by name, so that
+    #: a saved config names what imports it; empty for classes registered otherwise
+    source: ClassVar[str] = ''
     #: 'orifice', 'clearance', 'thermal' or 'friction' for the paper's
     #: switchable parts (one per slot); None for an additive effect.
     slot: ClassVar[Optional[str]] = None

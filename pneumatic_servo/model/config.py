@@ -136,9 +136,12 @@ class ModelConfig:
             raise ConfigError(f'{path}: {exc}') from None
 
     def to_dict(self) -> dict:
+        """The config as plain data; a user's effect imported by ``"module:Class"`` is keyed
+        by that, so that loading the saved file imports it again."""
         return {'core': dict(self.core),
                 'components': {k: dict(v) for k, v in self.components.items()},
-                'effects': {k: dict(v) for k, v in self.effects.items()}}
+                'effects': {registry.get(k).source or k: dict(v)
+                            for k, v in self.effects.items()}}
 
     def save(self, path, header: str = '') -> None:
         """Write YAML that :meth:`load` (and the nodes) take as it is."""

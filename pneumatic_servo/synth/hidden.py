@@ -44,7 +44,7 @@ from ..errors import ConfigError
 from ..experiment import Experiment
 from ..model.assembly import Model
 from ..model.config import ModelConfig
-from ..model.simulate import DEFAULT_RTOL, initial_state, simulate
+from ..model.simulate import DEFAULT_RTOL, initial_state, measured_states, simulate
 from . import sensors as S
 
 #: supply of the paper's servo and charge/discharge tests, 0.6 MPa gauge [Pa, absolute]
@@ -173,9 +173,16 @@ def closed_loop_experiment(cfg: ModelConfig, rng: np.random.Generator,
     hidden effects act as they do in ``simulate``. The controller sees the
     quantised angle (and the measurement delay), so the record is what a
     real rig logs. The loop runs ``preroll_s`` [s] before the record starts,
-    so the record begins under control. Gains ``kp`` [V/rad], ``kd`` [V.s/rad].
+    so the record begins under control. Gains ``kp`` [V/rad], ``kd`` [V.s/rad]. Sensor
+    errors of the hidden effects are in what the controller sees.
     """
     model = model or Model(cfg)
+
+    def reading(rows, commands):
+        """What the sensors show of physical state ``rows`` (n, n_states)."""
+        return measured_states(model, cfg, np.zeros(len(rows)), rows, commands,
+                               np.full(len(rows), SUPPLY_PA))
+
     dt = 1.0 / rate_hz
     skip = int(round(preroll_s * rate_hz))
     t = _time(duration_s + preroll_s, rate_hz)
@@ -195,7 +202,8 @@ def closed_loop_experiment(cfg: ModelConfig, rng: np.random.Generator,
     step = 1e-5
     prev, vel = None, 0.0
     for k in range(n):
-        angle_meas[k] = S.quantise(states.at(t[k] - d_out)[THETA], SENSORS.encoder_step_rad)
+        seen = reading(states.at(t[k] - d_out)[None], np.array([u[k - 1] if k else 5.0]))[0]
+        angle_meas[k] = S.quantise(seen[THETA], SENSORS.encoder_step_rad)
         if prev is not None:  # velocity from the encoder, first-order filtered (10 ms)
             vel += ((angle_meas[k] - prev) / dt - vel) * dt / 0.01
         prev = angle_meas[k]
@@ -215,7 +223,8 @@ def closed_loop_experiment(cfg: ModelConfig, rng: np.random.Generator,
         if status != 0:
             raise RuntimeError(f'closed-loop run failed at t = {t[k]:.4f} s')
         states.append(x.copy())
-    true = np.array([states.at(tk - d_out) for tk in t])[skip:]
+    true = reading(np.array([states.at(tk - d_out) for tk in t]),
+                   np.concatenate([[5.0], u[:-1]]))[skip:]
     t_rec = t[skip:] - t[skip]
     ps = np.full(len(t_rec), SUPPLY_PA)
     sig = measure_servo(t_rec, true[:, THETA], true[:, P_A], true[:, P_B], ps, rng)

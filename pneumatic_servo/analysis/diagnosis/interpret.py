@@ -26,8 +26,9 @@ def _moment(reg: str, c: float, terms: dict, core: dict) -> str:
         return (f'an extra torque that {"rises" if c > 0 else "falls"} with angle, about '
                 f'{c:+.3g} N.m/rad{where}: a return spring, or a gravity load on an arm')
     if reg in ('sin_angle', 'cos_angle'):
-        return (f'a torque that varies with the {reg[:3]}e of the angle, {abs(c):.3g} N.m at '
-                'most: gravity on an offset mass that turns with the shaft')
+        trig = 'sine' if reg == 'sin_angle' else 'cosine'
+        return (f'a torque that varies with the {trig} of the angle, {abs(c):.3g} N.m at '
+                'most: gravity on an offset mass that turns with the shaft, or a spring')
     if reg == 'velocity':
         return (f'a torque proportional to speed, {c:+.3g} N.m.s/rad: '
                 + ('more viscous damping than the model has' if c < 0 else

@@ -27,8 +27,10 @@ CONSISTENT_RATIO = 2.5
 #: the practical size) is statistically certain: reported as small, never hidden
 CERTAIN_DELTA_BIC = -100.0
 #: a generic correction is clearly better than a named effect if its BIC is lower by this
-#: much and its held-out residual lower by more than the ambiguity margin
+#: much and it leaves at most this share of the named effect's held-out residual (a
+#: second effect the named one misses leaves 0.9 of it; an unlisted effect, 0.1-0.4)
 CLEARLY_BETTER_BIC = 10.0
+CLEARLY_BETTER_SHARE = 2.0 / 3.0
 
 STATUSES = ('consistent', 'explained', 'partly_explained', 'unexplained')
 
@@ -45,10 +47,10 @@ def consistent(rms: float, noise: float) -> bool:
     return rms <= CONSISTENT_RATIO * noise
 
 
-def clearly_better(d: Candidate, c: Candidate, options: DiagnoseOptions) -> bool:
+def clearly_better(d: Candidate, c: Candidate) -> bool:
     """Discovered correction ``d`` explains the held-out data clearly better than ``c``."""
     return (d.delta_bic < c.delta_bic - CLEARLY_BETTER_BIC
-            and d.score.overall < c.score.overall * (1.0 - options.ambiguity))
+            and d.score.overall <= CLEARLY_BETTER_SHARE * c.score.overall)
 
 
 @dataclass
@@ -113,7 +115,7 @@ def decide(ranking: list[Candidate], discovered: list[Candidate], base_rms: floa
     corrections and the held-out residual [normalised] of the model as given."""
     named = next((c for c in ranking if earns_place(c, options)), None)
     found = next((d for d in discovered if earns_place(d, options)), None)
-    if named is not None and found is not None and clearly_better(found, named, options):
+    if named is not None and found is not None and clearly_better(found, named):
         partial = [c.effect for c in ranking if earns_place(c, options)]
         return Finding('unexplained', reason=(
             f'no name on the list fits: {named.effect} fits only part of it '

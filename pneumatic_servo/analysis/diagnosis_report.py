@@ -1,0 +1,194 @@
+"""The ``diagnose --report`` page: the status first, in words a user cannot misread, then what
+was found and where the model fails.
+
+Sections: the status and what to do next; the discovered corrections with their
+interpretation and a plot of the equation's residual against the leading regressor;
+the ladder (the held-out error as effects are added, a channel that gets worse flagged);
+the ranking of the named effects; measured against simulated signals; the residuals,
+the regime heat map and the residual tests of the model as given.
+"""
+from __future__ import annotations
+
+import html
+from pathlib import Path
+
+import numpy as np
+
+from ..effects.corrections import BY_EQUATION, REGRESSOR_NAMES, REGRESSORS
+from .diagnosis import predictions
+from .diagnosis.interpret import leading
+from .diagnosis.result import Diagnosis
+from .diagnosis.text import HEADLINES
+from .equation_residual import SHOWN_AS, equation_residual
+from .html import fmt, img, page, table
+from .plots import (
+    plot_equation_residual,
+    plot_ladder,
+    plot_overlays,
+    plot_ranking,
+    plot_residuals,
+)
+from .report import where_sections
+
+_STYLE = {'consistent': 'ok', 'explained': 'ok', 'partly_explained': 'warn',
+          'unexplained': 'bad'}
+_UNITS = {r.name: r.unit for r in REGRESSORS}
+
+
+def _status(result: Diagnosis) -> list[str]:
+    res = result.to_json()
+    size = ' (small)' if res['size'] == 'small' else ''
+    out = [f'<div class="status {_STYLE[res["status"]]}"><b>Status: '
+           f'{html.escape(res["status"].replace("_", " "))}</b> &mdash; '
+           f'{html.escape(HEADLINES[res["status"]])}.<br>Verdict: '
+           f'<b>{html.escape(res["verdict"])}{size}</b>. {html.escape(res["reason"])}.</div>']
+    if res['ambiguous_with']:
+        out.append(f'<p><b>About equally good:</b> {html.escape(", ".join(res["ambiguous_with"]))}'
+                   f'. <b>To tell them apart:</b> {html.escape(res["suggested_experiment"])}</p>')
+    if res['partial_fits']:
+        out.append('<p><b>Partial fits only, not the answer:</b> '
+                   f'{html.escape(", ".join(res["partial_fits"]))}.</p>')
+    return out
+
+
+def _next_steps(result: Diagnosis, applied_to: str | None, emitted_to: str | None) -> str:
+    steps = []
+    added = result.added
+    if added is not None and applied_to:
+        steps.append(f'The model with <b>{html.escape(added.effect)}</b> added and fitted was '
+                     f'written to <code>{html.escape(applied_to)}</code>. Diagnose again with '
+                     f'<code>--config {html.escape(applied_to)}</code> to find the next effect.')
+    elif added is not None:
+        steps.append(f'Run <code>diagnose ... --apply OUT.yaml</code> to write the model with '
+                     f'<b>{html.escape(added.effect)}</b> added and fitted, then diagnose again '
+                     'on OUT.yaml.')
+    if emitted_to:
+        steps.append(f'The discovered correction was written as a user effect to '
+                     f'<code>{html.escape(emitted_to)}</code>: rename its class to the physics '
+                     'you recognise and use it as <code>FILE.py:Class</code>.')
+    elif result.discovered:
+        steps.append('Write the discovered correction as a user effect with '
+                     '<code>--emit-effect FILE.py</code>.')
+    if result.status == 'consistent':
+        steps.append('Nothing is missing at this noise level; a longer or richer record '
+                     '(steps, blocked-piston tests) would tighten the test.')
+    return '<h2>What to do next</h2><ul>' + ''.join(f'<li>{s}</li>' for s in steps) + '</ul>'
+
+
+def _discovered(out_dir: Path, result: Diagnosis) -> list[str]:
+    if not result.discovered:
+        return []
+    rows = []
+    for d in result.discovered:
+        se = d.to_json()['stderr']
+        terms = '<br>'.join(f'{html.escape(r)}: {v:+.4g} &plusmn; {fmt(se.get(r), 2)} '
+                            f'{html.escape(BY_EQUATION[d.equation].equation.unit)}'
+                            + ('' if _UNITS[r] == '1' else f'/{html.escape(_UNITS[r])}')
+                            for r, v in d.terms.items())
+        rows.append([html.escape(d.equation), terms, f'{100 * d.error_reduction:+.1f} %',
+                     html.escape(d.interpretation)])
+    out = ['<h2>Where the missing physics lives: generic correction terms</h2>',
+           '<p class="note">Each term is fitted through the simulator on the same data and '
+           'scored on the same held-out data as the named effects.</p>',
+           table(['equation', 'terms (SI, &plusmn; 1 s.e.)', 'held-out error reduction',
+                  'interpretation'], rows, 1, escape_header=False)]
+    name = _residual_plot(out_dir, result, result.discovered[0])
+    if name:
+        out.append(img(out_dir, name, 'equation residual'))
+    return out
+
+
+def _residual_plot(out_dir: Path, result: Diagnosis, term) -> str | None:
+    """The discovered term's equation residual against its leading regressor."""
+    reg = leading(term.terms)
+    coef = np.array([term.terms.get(r, 0.0) for r in REGRESSOR_NAMES])
+    points = []
+    for exp, pred in zip(result.data.experiments, result.base_predictions):
+        found = equation_residual(result.baseline.config, exp, pred, term.equation)
+        if found is None:
+            continue
+        res, ok, regs = found
+        ok = ok & np.isfinite(res)
+        if ok.sum() > 20:
+            points.append((regs[ok, REGRESSOR_NAMES.index(reg)], res[ok], regs[ok] @ coef))
+    if not points:
+        return None
+    shown = SHOWN_AS.get(term.equation, term.equation)
+    return plot_equation_residual(out_dir, points, shown, reg, BY_EQUATION[shown].equation.unit,
+                                  _UNITS[reg])
+
+
+def _ranking_table(ranking: list[dict]) -> str:
+    rows = []
+    for c in ranking:
+        if c['fitted']:
+            params = '<br>'.join(f'{html.escape(k.partition(".")[2])} = {v:.4g} &plusmn; '
+                                 f'{fmt(c["stderr"].get(k), 2)}' for k, v in c['params'].items())
+        else:
+            params = '<i>screened out on the coarse grid (not fitted)</i>'
+        chans = ', '.join(f'{ch} {100 * v:+.0f} %'
+                          for ch, v in c['channel_error_reduction'].items())
+        flag = 'yes' if c.get('earns_place') else ('implausible' if not c['plausible'] else 'no')
+        rows.append([html.escape(c['effect']), params, f'{100 * c["error_reduction"]:+.1f} %',
+                     chans, f'{c["delta_bic"]:.1f}', flag,
+                     html.escape('; '.join(c['problems']))])
+    return table(['effect', 'fitted parameters (SI, &plusmn; 1 s.e.)', 'error reduction',
+                  'per channel', 'delta BIC', 'earns place', 'notes'], rows, 2,
+                 escape_header=False)
+
+
+def _ladder_table(ladder: list[dict]) -> str:
+    chans = list(ladder[0]['channels'])
+    rows = []
+    for i, r in enumerate(ladder):
+        cells = []
+        for ch in chans:
+            v = r['channels'].get(ch, float('nan'))
+            worse = i > 0 and v > ladder[i - 1]['channels'].get(ch, np.inf) * 1.02
+            cells.append(f'<span class="worse">{v:.4g} (worse)</span>' if worse else f'{v:.4g}')
+        rows.append([html.escape(r['model'])] + cells + [f'{r["overall"]:.4g}'])
+    return table(['model'] + chans + ['overall'], rows, escape_header=False)
+
+
+def write_diagnosis_report(out_dir, result: Diagnosis, applied_to: str | None = None,
+                           emitted_to: str | None = None) -> Path:
+    """Write the page of ``result`` into ``out_dir`` (created); returns ``index.html``.
+
+    ``applied_to`` and ``emitted_to`` name the files ``--apply`` and ``--emit-effect``
+    wrote, so the page says where the fitted model is and what to do next.
+    """
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    res = result.to_json()
+    body = _status(result) + [_next_steps(result, applied_to, emitted_to)]
+    body += _discovered(out_dir, result)
+    body.append(f'<p class="note">Experiments: {html.escape(", ".join(res["experiments"]))}. '
+                f'Residuals are {res["options"]["horizon_s"]:g} s-ahead predictions from the '
+                f'measured state, smoothed over {1e3 * res["options"]["smooth_s"]:g} ms; '
+                f'fitted on alternate blocks, scored on the others.</p>')
+    if res['ladder']:
+        body.append('<h2>The ladder: held-out error as effects are added</h2>')
+        body.append('<p class="note">Held-out RMS prediction error of each channel divided by '
+                    'that channel\'s own spread (standard deviation over the record): 1 means '
+                    'an error as large as the signal\'s variation, lower is better. A channel '
+                    'that gets worse on a rung is marked.</p>')
+        body.append(_ladder_table(res['ladder']))
+        body.append(img(out_dir, plot_ladder(out_dir, res['ladder']), 'ladder'))
+    if res['ranking']:
+        body.append('<h2>Ranking of the named effects</h2>')
+        body.append(img(out_dir, plot_ranking(out_dir, res['ranking']), 'ranking'))
+        body.append(_ranking_table(res['ranking']))
+    preds = {'model as given': result.base_predictions}
+    if result.added is not None:
+        preds[f'+ {result.added.effect}'] = predictions(result.added.config, result.data)
+    exps = result.data.experiments
+    body.append('<h2>Measured and simulated</h2>')
+    body.append(img(out_dir, plot_overlays(out_dir, exps, preds), 'overlays'))
+    if any(not e.static for e in exps):
+        body.append('<h2>Residuals of the model as given</h2>')
+        body.append(img(out_dir, plot_residuals(out_dir, exps, result.base_predictions),
+                        'residuals'))
+    body += where_sections(out_dir, exps, result.base_predictions, result.baseline.config)[0]
+    path = out_dir / 'index.html'
+    path.write_text(page('Model discrepancy diagnosis', body))
+    return path
