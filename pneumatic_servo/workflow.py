@@ -13,7 +13,7 @@ from pathlib import Path
 
 from .analysis.compare import compare, predictions
 from .analysis.diagnosis import apply, diagnose
-from .analysis.diagnosis.text import print_ladder
+from .analysis.diagnosis.text import plus_minus, print_ladder
 from .analysis.diagnosis_report import write_diagnosis_report
 from .analysis.report import write_compare_report
 from .errors import ExperimentError
@@ -69,7 +69,7 @@ def _round(i: int, exp, config, out_dir: Path, say):
     new = apply(result)
     path = out_dir / f'model_{i}.yaml'
     new.save(path, header=f'discrepancy demo round {i}: added {result.added.effect}')
-    say('  applied: ' + ', '.join(f'{k} = {v:.4g} +/- {result.added.stderr[k]:.2g}'
+    say('  applied: ' + ', '.join(f'{k} = {plus_minus(v, result.added.stderr[k])}'
                                    for k, v in result.added.params.items()) + f' -> {path}')
     print_ladder(result.ladder, say)
     return result, new

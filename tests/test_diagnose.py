@@ -60,6 +60,7 @@ def diagnosed():
 def test_hidden_effect_is_named_recovered_and_cuts_the_error(effect, diagnosed):
     result, truth, _ = diagnosed(effect)
     assert result.verdict == effect, result.reason
+    assert result.status == 'explained', result.reason
     best = result.winner
     for param, true in truth[effect].items():
         fitted = best.params[f'{effect}.{param}']
@@ -83,6 +84,7 @@ def test_clean_data_raise_no_alarm(diagnosed):
     result, truth, _ = diagnosed('none')
     assert truth == {}
     assert result.verdict == 'none', result.reason
+    assert result.status == 'consistent' and result.discovered == []
     assert len(result.ranking) == len(registry.CATALOGUE_NAMES)
     assert all(c.error_reduction < result.options.min_reduction for c in result.ranking)
 
@@ -104,6 +106,7 @@ def test_result_follows_the_json_contract(diagnosed):
     result, _, _ = diagnosed('external_load_torque')
     data = json.loads(json.dumps(result.to_json(), default=float))
     assert data['verdict'] == 'external_load_torque'
+    assert data['status'] == 'explained' and data['discovered'] == []
     first = data['ranking'][0]
     assert {'effect', 'params', 'error_reduction', 'stderr', 'plausible',
             'channel_error_reduction', 'delta_bic'} <= set(first)
@@ -118,11 +121,14 @@ def test_result_follows_the_json_contract(diagnosed):
 def test_two_hidden_effects_are_found_in_two_rounds(diagnosed, tmp_path):
     first, truth, exps = diagnosed('two_external_load_torque+piston_seal_leakage')
     assert first.verdict in truth
+    # one of two is found: what remains is still structured, and discovery says where
+    assert first.status == 'partly_explained' and first.discovered, first.reason
     cfg = apply(first)
     cfg.save(tmp_path / 'round1.yaml')
     cfg = ModelConfig.load(tmp_path / 'round1.yaml')
     second = diagnose(exps, cfg)
     assert {first.verdict, second.verdict} == set(truth)
+    assert second.status == 'explained', second.reason
     # round 2 refits the effect of round 1 (it had absorbed some of the other): the model
     # with both holds both hidden values
     final = apply(second)
@@ -138,7 +144,7 @@ def test_two_hidden_effects_are_found_in_two_rounds(diagnosed, tmp_path):
     third = diagnose(exps, apply(second), effects=['external_load_torque',
                                                    'piston_seal_leakage', 'payload_inertia',
                                                    'external_leakage'])
-    assert third.verdict == 'none'
+    assert third.verdict == 'none' and third.status == 'consistent', third.reason
 
 
 # --------------------------------------------------------------- a user's own effect

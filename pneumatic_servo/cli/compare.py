@@ -29,6 +29,9 @@ def add_parser(sub) -> argparse.ArgumentParser:
                    help='k-step prediction horizon [s] (default 0.2)')
     p.add_argument('--skip', type=float, default=0.0, metavar='S',
                    help='leave the first S seconds out of the metrics')
+    p.add_argument('--validate-on', nargs='+', metavar='OTHER', default=[],
+                   help='also compare the same model with these experiments (any circuit); '
+                        'JSON under "validation", by experiment')
     p.set_defaults(run=run)
     return p
 
@@ -81,6 +84,14 @@ def run(args) -> int:
     result = compare(exp, cfg, mode=args.mode, horizon_s=args.horizon, skip_s=args.skip,
                      preds=preds)
     print_channels(result)
+    if args.validate_on:
+        result['validation'] = {}
+        for path in args.validate_on:
+            other = read_experiment(path)
+            check = compare(other, config_for(other, cfg), mode=args.mode,
+                            horizon_s=args.horizon)
+            result['validation'][other.name] = check
+            print_channels(check)
     if args.json:
         Path(args.json).write_text(json.dumps(result, indent=2))
         print(f'wrote {args.json}')

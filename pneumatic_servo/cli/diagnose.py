@@ -38,6 +38,9 @@ def add_parser(sub) -> argparse.ArgumentParser:
                    help='rosbag2 directories (sqlite3 or MCAP) and/or static CSV tables, '
                         'diagnosed jointly')
     p.add_argument('--config', metavar='CFG', help="model config YAML (default: the paper's)")
+    p.add_argument('--validate-on', nargs='+', metavar='OTHER', default=[],
+                   help='other experiments (any circuit) on which every candidate and the '
+                        'ladder are scored too: is what DATA shows confirmed elsewhere?')
     p.add_argument('--json', metavar='PATH', help='write the diagnosis as JSON')
     p.add_argument('--report', metavar='DIR', help='write an HTML report with plots into DIR')
     p.add_argument('--apply', metavar='OUT.yaml',
@@ -100,8 +103,9 @@ def run(args) -> int:
         say(f'  tried {c.effect:<24} held-out error {100 * c.error_reduction:+6.1f} % '
             f'({c.seconds:.1f} s)')
 
+    others = [read_experiment(p) for p in args.validate_on]
     result = diagnose(experiments, config, _names(args.effects), _names(args.free), options,
-                      progress=progress)
+                      progress=progress, validate_on=others)
     if not args.quiet:
         text.print_where(result, say)
         text.print_ranking(result, say)

@@ -46,6 +46,14 @@ class Param:
     description: str
     fit: bool = True
     plausible: Optional[tuple[float, float]] = None
+    #: the part of the rig it belongs to, where that is narrower than its component's
+    #: (e.g. 'chamber b'), and the circuits that part is in (None: the component's)
+    part: str = ''
+    circuits: Optional[tuple[str, ...]] = None
+    #: a parameter of the same component that mirrors this one (chamber a's twin of a
+    #: chamber-b value): where the data cannot determine this one, symmetry is the
+    #: assumption offered
+    mirror: str = ''
 
     def plausible_range(self) -> tuple[float, float]:
         return self.plausible if self.plausible is not None else (self.lower, self.upper)

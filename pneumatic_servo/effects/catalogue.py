@@ -243,9 +243,10 @@ class ExternalLeakage(Component):
     acts_on = 'pressure'
     params = (
         Param('leak_area_a_m2', 'm^2', 5e-9, 0.0, 1e-6, 'leak area, chamber a to atmosphere',
-              plausible=(0.0, 1e-7)),
+              plausible=(0.0, 1e-7), part='chamber a', mirror='leak_area_b_m2'),
         Param('leak_area_b_m2', 'm^2', 5e-9, 0.0, 1e-6, 'leak area, chamber b to atmosphere',
-              plausible=(0.0, 1e-7)),
+              plausible=(0.0, 1e-7), part='chamber b', circuits=('servo', 'blocked'),
+              mirror='leak_area_a_m2'),
     )
     flows = _external_leak_hook
 
@@ -349,9 +350,9 @@ class DeadVolume(Component):
     acts_on = 'pressure'
     params = (
         Param('extra_dead_volume_a_m3', 'm^3', 3e-6, -4e-6, 1e-4, 'extra volume of chamber a',
-              plausible=(-2e-6, 5e-5)),
+              plausible=(-2e-6, 5e-5), part='chamber a', mirror='extra_dead_volume_b_m3'),
         Param('extra_dead_volume_b_m3', 'm^3', 3e-6, -4e-6, 1e-4, 'extra volume of chamber b',
-              plausible=(-2e-6, 5e-5)),
+              plausible=(-2e-6, 5e-5), part='chamber b', mirror='extra_dead_volume_a_m3'),
     )
     geometry = _dead_volume_hook
 

@@ -11,9 +11,11 @@
 
 ``identification.output_error`` and ``analysis.diagnosis`` are thin uses of it.
 """
+from .identifiability import Combination, Identifiability
 from .problem import FAILED_RESIDUAL, Part, Problem, channel_scales, residual_rows, stack
 from .solver import Fit, fit
 from .uncertainty import Uncertainty, effective_samples, uncertainty
 
 __all__ = ['Part', 'Problem', 'residual_rows', 'channel_scales', 'stack', 'FAILED_RESIDUAL',
-           'Fit', 'fit', 'Uncertainty', 'uncertainty', 'effective_samples']
+           'Fit', 'fit', 'Uncertainty', 'uncertainty', 'effective_samples', 'Identifiability',
+           'Combination']

@@ -13,6 +13,7 @@ import numpy as np
 from scipy.optimize import least_squares
 
 from ..model.config import ModelConfig
+from .identifiability import ZERO_COLUMN, Identifiability
 from .problem import Problem
 from .uncertainty import uncertainty
 
@@ -22,7 +23,8 @@ class Fit:
     """Fitted values [SI] and what the data say about them.
 
     ``cost`` is the sum of squared normalised residuals on the fitted data;
-    ``residual`` the residual vector at the solution.
+    ``residual`` the residual vector at the solution. A parameter the data do not
+    determine has ``stderr`` None (``identifiability.reason(key)`` says why).
     """
 
     config: ModelConfig
@@ -40,6 +42,8 @@ class Fit:
     residual: np.ndarray = field(repr=False, default=None)
     #: normalised RMS residual per channel (filled by output-error fits)
     rms: dict[str, float] = field(default_factory=dict)
+    #: what the data determine (parameters and combinations they do not)
+    identifiability: Identifiability = field(default=None)
 
     @property
     def free(self) -> list[str]:
@@ -102,11 +106,27 @@ def fit(prob: Problem, x0=None, max_nfev: int = 40, xtol: float = 1e-6, ftol: fl
             cache[key] = prob.evaluate(np.asarray(v, float))
         return cache[key]
 
-    sol = least_squares(lambda v: evaluate(v)[0], x, jac=lambda v: evaluate(v)[1],
-                        bounds=(prob.lo, prob.hi), x_scale=prob.scale, method='trf',
-                        max_nfev=max_nfev, xtol=xtol, ftol=ftol)
-    r, jac = evaluate(sol.x)
-    unc = uncertainty(prob.keys, sol.x, r, jac, prob.lo, prob.hi)
-    return Fit(prob.config_at(sol.x), prob.keys, dict(zip(prob.keys, map(float, sol.x))),
-               unc.stderr, unc.correlation, float(r @ r), unc.at_bound, bool(sol.success),
-               str(sol.message), prob.evaluations, len(r), unc.n_eff, r)
+    # a parameter the residual does not depend on at all stays where it is: its zero column
+    # would only spend the trust region on a direction the data cannot see
+    norms = np.linalg.norm(evaluate(x)[1] * prob.scale, axis=0)
+    active = np.flatnonzero(norms > ZERO_COLUMN * norms.max()) if norms.max() > 0 else []
+
+    def full(v):
+        out = x.copy()
+        out[active] = v
+        return out
+
+    if len(active):
+        sol = least_squares(lambda v: evaluate(full(v))[0], x[active],
+                            jac=lambda v: evaluate(full(v))[1][:, active],
+                            bounds=(prob.lo[active], prob.hi[active]),
+                            x_scale=prob.scale[active], method='trf', max_nfev=max_nfev,
+                            xtol=xtol, ftol=ftol)
+        x, success, message = full(sol.x), bool(sol.success), str(sol.message)
+    else:
+        success, message = False, 'the residual depends on none of the parameters'
+    r, jac = evaluate(x)
+    unc = uncertainty(prob.keys, x, r, jac, prob.lo, prob.hi, prob.scale)
+    return Fit(prob.config_at(x), prob.keys, dict(zip(prob.keys, map(float, x))),
+               unc.stderr, unc.correlation, float(r @ r), unc.at_bound, success, message,
+               prob.evaluations, len(r), unc.n_eff, r, identifiability=unc.identifiability)

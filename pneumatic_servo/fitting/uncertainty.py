@@ -7,9 +7,11 @@ magnitude. :func:`effective_samples` is the package's one estimator of n_eff.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
+
+from .identifiability import Identifiability, identifiability
 
 
 def autocorrelation(x: np.ndarray, max_lag: int) -> np.ndarray:
@@ -42,26 +44,41 @@ def effective_samples(x: np.ndarray, y: np.ndarray | None = None) -> float:
 
 @dataclass
 class Uncertainty:
-    """Standard errors [SI] by key, the correlation matrix, the keys stopped at a bound, and
-    the effective sample count of the residual."""
+    """Standard errors [SI] by key (None for a parameter the data do not determine), the
+    correlation matrix (NaN in the rows of those), the keys stopped at a bound, the
+    effective sample count of the residual, and what the data determine."""
 
-    stderr: dict[str, float]
+    stderr: dict[str, float | None]
     correlation: np.ndarray
     at_bound: list[str]
     n_eff: float
+    identifiability: Identifiability = field(default=None)
 
 
 def uncertainty(keys: list[str], x: np.ndarray, r: np.ndarray, jac: np.ndarray,
-                lo: np.ndarray, hi: np.ndarray) -> Uncertainty:
+                lo: np.ndarray, hi: np.ndarray, scale: np.ndarray | None = None
+                ) -> Uncertainty:
     """Standard errors and correlation of the values ``x`` of ``keys`` fitted with residual
-    ``r`` and Jacobian ``jac``; the keys within a relative 1e-6 of a bound ``lo``/``hi``."""
+    ``r`` and Jacobian ``jac``; the keys within a relative 1e-6 of a bound ``lo``/``hi``.
+    ``scale`` [SI] (default the values, or 1) weighs the columns of the identifiability test.
+
+    The covariance is taken over the determined parameters only: a parameter the data
+    do not see would otherwise have an arbitrary standard error (zero, from a
+    pseudo-inverse), read as "known exactly"."""
     n, p = len(r), len(x)
     n_eff = effective_samples(r)
-    cov = float(r @ r) / max(n - p, 1) * (n / n_eff) * np.linalg.pinv(jac.T @ jac)
+    scale = np.where(np.abs(x) > 0, np.abs(x), 1.0) if scale is None else scale
+    ident = identifiability(keys, np.asarray(x, float), jac, scale)
+    keep = [i for i, k in enumerate(keys) if k not in ident.undetermined]
+    cov = np.full((p, p), np.nan)
+    if keep:
+        jk = jac[:, keep]
+        cov[np.ix_(keep, keep)] = (float(r @ r) / max(n - len(keep), 1) * (n / n_eff)
+                                   * np.linalg.pinv(jk.T @ jk))
     sd = np.sqrt(np.clip(np.diag(cov), 0.0, None))
     with np.errstate(invalid='ignore', divide='ignore'):
         corr = cov / np.outer(sd, sd)
-    corr = np.where(np.isfinite(corr), corr, 0.0)
     at_bound = [k for k, v, a, b in zip(keys, x, lo, hi)
                 if np.isclose(v, a, rtol=1e-6, atol=0) or np.isclose(v, b, rtol=1e-6, atol=0)]
-    return Uncertainty(dict(zip(keys, map(float, sd))), corr, at_bound, n_eff)
+    stderr = {k: (float(sd[i]) if i in keep else None) for i, k in enumerate(keys)}
+    return Uncertainty(stderr, corr, at_bound, n_eff, ident)

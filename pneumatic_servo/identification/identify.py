@@ -148,10 +148,15 @@ def refinement_report(fit: FitResult) -> str:
     out = [f'output-error refinement ({"converged" if fit.success else "NOT converged"}: '
            f'{fit.message}), {fit.n_data} residuals:']
     for k in fit.free:
-        rel = abs(fit.stderr[k] / fit.values[k]) if fit.values[k] else float('inf')
+        se = fit.stderr[k]
+        if se is None:
+            out.append(f'  {k} = {fit.values[k]:.6g} (not determined: '
+                       f'{fit.identifiability.reason(k)})')
+            continue
+        rel = abs(se / fit.values[k]) if fit.values[k] else float('inf')
         flag = '  at bound' if k in fit.at_bound else ''
         flag += '  (poorly determined)' if rel > 0.5 else ''
-        out.append(f'  {k} = {fit.values[k]:.6g} +/- {fit.stderr[k]:.2g}{flag}')
+        out.append(f'  {k} = {fit.values[k]:.6g} +/- {se:.2g}{flag}')
     out.append('  correlation:')
     short = [k.split('.')[-1][:14] for k in fit.free]
     out.append('    ' + ' '.join(f'{s:>14}' for s in short))

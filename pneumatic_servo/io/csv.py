@@ -1,11 +1,12 @@
 """Static experiments (steady-state test tables) as CSV, INTERFACES.md 'Static experiments'.
 
-Columns: ``circuit`` (``closed_port`` or ``flow``), ``voltage_v``,
-``supply_pa`` (absolute), and whichever measurements exist: ``p_a_pa``
-(absolute), ``m4_kg_s``, ``m5_kg_s``, ``t_s_k``. Each row is one steady
-operating point. Metadata (how the table was made, whether it is
-synthetic) lives in an optional sidecar ``<name>.meta.yaml``, so that the
-CSV itself stays a plain table any tool reads.
+Columns: ``circuit`` (``closed_port``, ``flow``, or ``blocked``: the pistons held,
+both chambers settled at a held voltage), ``voltage_v``, ``supply_pa``
+(absolute), and whichever measurements exist: ``p_a_pa``, ``p_b_pa`` (absolute),
+``m4_kg_s``, ``m5_kg_s``, ``t_s_k``. Each row is one steady operating point.
+Metadata (how the table was made, whether it is synthetic) lives in an optional
+sidecar ``<name>.meta.yaml``, so that the CSV itself stays a plain table any
+tool reads.
 """
 from __future__ import annotations
 
@@ -21,11 +22,12 @@ from ..errors import ExperimentError
 from ..experiment import Experiment
 
 REQUIRED_COLUMNS = ('circuit', 'voltage_v', 'supply_pa')
-MEASURED_COLUMNS = ('p_a_pa', 'm4_kg_s', 'm5_kg_s', 't_s_k')
-STATIC_CIRCUITS = ('closed_port', 'flow')
+MEASURED_COLUMNS = ('p_a_pa', 'p_b_pa', 'm4_kg_s', 'm5_kg_s', 't_s_k')
+STATIC_CIRCUITS = ('closed_port', 'flow', 'blocked')
 #: CSV column -> Experiment signal
 COLUMN_SIGNAL = {'voltage_v': 'command_v', 'supply_pa': 'supply_pa', 'p_a_pa': 'p_a_pa',
-                 'm4_kg_s': 'm4_kg_s', 'm5_kg_s': 'm5_kg_s', 't_s_k': 't_s_k'}
+                 'p_b_pa': 'p_b_pa', 'm4_kg_s': 'm4_kg_s', 'm5_kg_s': 'm5_kg_s',
+                 't_s_k': 't_s_k'}
 #: [Pa] an absolute pressure below this is surely a gauge reading or in the wrong unit
 _MIN_ABSOLUTE_PA = 2e4
 
@@ -104,8 +106,8 @@ def read_static_csv(path, name: str | None = None) -> Experiment:
     circuit = circuits.pop()
     if circuit not in STATIC_CIRCUITS:
         raise ExperimentError(f"{where}: circuit '{circuit}' is not a static circuit; use "
-                              f'{" or ".join(STATIC_CIRCUITS)} (time series go in a bag)')
-    for col in ('supply_pa', 'p_a_pa'):
+                              f'{", ".join(STATIC_CIRCUITS)} (time series go in a bag)')
+    for col in ('supply_pa', 'p_a_pa', 'p_b_pa'):
         if col in columns and min(columns[col]) < _MIN_ABSOLUTE_PA:
             raise ExperimentError(
                 f'{where}: {col} has {min(columns[col]):g}, below {_MIN_ABSOLUTE_PA:g} Pa; '

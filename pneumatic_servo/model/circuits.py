@@ -44,7 +44,9 @@ from ..effects.layout import (
     N_CONTEXT,
     N_CORE_STATES,
     P_A,
+    P_B,
     T_A,
+    T_B,
 )
 from ..errors import SimulationError
 from .assembly import Model
@@ -57,7 +59,7 @@ PAPER_SUPPLY_GAUGE_PA = 0.6e6
 PAPER_FLOW_SUPPLIES_GAUGE_PA = (0.5e6, 0.7e6, 0.83e6)
 #: drive voltages of Table 5 [V]
 PAPER_TABLE5_VOLTAGES_V = (5.0, 5.1, 5.3, 5.5, 5.75, 6.0, 6.5, 7.0, 8.0, 9.0, 10.0)
-STATIC_CIRCUITS = ('closed_port', 'flow')
+STATIC_CIRCUITS = ('closed_port', 'flow', 'blocked')
 
 _MAX_OUTER = 40  # p_a / T_a alternations when T_s differs from T_e
 
@@ -78,21 +80,21 @@ def _evaluate(model: Model, P: np.ndarray, x: np.ndarray, voltage_v: float, supp
     return c, dx
 
 
-def _net_inflow(model, P, x, voltage_v, supply_pa, circuit, p_a):
-    """Net mass inflow [kg/s] into chamber a with its pressure set to ``p_a`` [Pa]."""
+def _net_inflow(model, P, x, voltage_v, supply_pa, circuit, p, chamber=0):
+    """Net mass inflow [kg/s] into a chamber (0 = a, 1 = b) with its pressure set to ``p``."""
     x = x.copy()
-    x[P_A] = p_a
-    return _evaluate(model, P, x, voltage_v, supply_pa, circuit)[0][C_MA]
+    x[P_A + chamber] = p
+    return _evaluate(model, P, x, voltage_v, supply_pa, circuit)[0][C_MA + chamber]
 
 
-def _solve_pressure(model, P, x, voltage_v, supply_pa, circuit, pe) -> float:
-    """p_a [Pa] where the net inflow into chamber a is zero, by brentq between p_e and p_s.
+def _solve_pressure(model, P, x, voltage_v, supply_pa, circuit, pe, chamber=0) -> float:
+    """A chamber's pressure [Pa] where its net inflow is zero, by brentq between p_e and p_s.
 
     Every source in the static circuits is at supply or atmospheric
     pressure, so the root lies between them; the bracket is widened only
     for user effects that break this.
     """
-    f = (lambda p: _net_inflow(model, P, x, voltage_v, supply_pa, circuit, p))
+    f = (lambda p: _net_inflow(model, P, x, voltage_v, supply_pa, circuit, p, chamber))
     lo, hi = min(pe, supply_pa), max(pe, supply_pa)
     f_lo, f_hi = f(lo), f(hi)
     for _ in range(8):
@@ -132,9 +134,20 @@ def _settle_chamber(model, P, x, voltage_v, supply_pa, circuit, pe, temps, fixed
         x[T_A] = t_new
 
 
-def _free_states(model: Model, isothermal: bool) -> list[int]:
-    """Indices of the states that evolve in a static circuit: p_a, T_a and effect states."""
-    return [P_A] + ([] if isothermal else [T_A]) + list(range(N_CORE_STATES, model.n_states))
+def _settle_both(model, P, x, voltage_v, supply_pa, circuit, pe, rounds: int = 4) -> None:
+    """Pistons held: each chamber's pressure to zero net inflow in turn (they couple only
+    through effects such as a seal leak, so a few alternations settle them)."""
+    for _ in range(rounds):
+        for chamber in (0, 1):
+            x[P_A + chamber] = _solve_pressure(model, P, x, voltage_v, supply_pa, circuit, pe,
+                                               chamber)
+
+
+def _free_states(model: Model, isothermal: bool, chambers: int = 1) -> list[int]:
+    """Indices of the states that evolve in a static circuit: the chambers' pressures and
+    temperatures (chamber a; both in the blocked circuit) and effect states."""
+    core = [P_A, P_B][:chambers] + ([] if isothermal else [T_A, T_B][:chambers])
+    return core + list(range(N_CORE_STATES, model.n_states))
 
 
 def _polish(model, P, x, voltage_v, supply_pa, circuit, free) -> np.ndarray:
@@ -168,7 +181,7 @@ def steady_state(model=None, circuit: str = 'closed_port', voltage_v: float = 5.
     model : Model, ModelConfig or None
         The model (None: the paper's).
     circuit : str
-        'closed_port' or 'flow'.
+        'closed_port', 'flow', or 'blocked' (pistons held: both chambers settle).
     voltage_v : float [V]
         Valve command, held.
     supply_pa : float [Pa, absolute]
@@ -206,15 +219,21 @@ def steady_state(model=None, circuit: str = 'closed_port', voltage_v: float = 5.
     P = model.param_vector(cfg)
     pe, ts, te = (core['atmospheric_pressure_pa'], core['supply_temperature_k'],
                   core['room_temperature_k'])
-    x = initial_state(model, p_b_pa=ps, t_b_k=ts, command_v=voltage_v, supply_pa=ps,
-                      config=cfg)
+    blocked = circuit == 'blocked'
+    x = initial_state(model, p_b_pa=None if blocked else ps, t_b_k=ts, command_v=voltage_v,
+                      supply_pa=ps, config=cfg, circuit=circuit)
     x[T_A] = ts
     isothermal = _evaluate(model, P, x, voltage_v, ps, cid)[0][C_ISOTHERMAL] > 0.5
     if isothermal:
-        x[T_A] = te  # an isothermal chamber keeps the room temperature it starts at
-    free = _free_states(model, isothermal)
-    _settle_chamber(model, P, x, voltage_v, ps, cid, pe, (ts, te), fixed_t=isothermal or ts == te)
-    if model.n_states == N_CORE_STATES:
+        x[T_A] = x[T_B] = te  # an isothermal chamber keeps the room temperature it starts at
+    free = _free_states(model, isothermal, 2 if blocked else 1)
+    if blocked:
+        _settle_both(model, P, x, voltage_v, ps, cid, pe)
+        x = _polish(model, P, x, voltage_v, ps, cid, free)
+    else:
+        _settle_chamber(model, P, x, voltage_v, ps, cid, pe, (ts, te),
+                        fixed_t=isothermal or ts == te)
+    if model.n_states == N_CORE_STATES and not blocked:
         # brentq's root is final: where Eq. 8 jumps at p_d/p_u = b the net flow can change
         # sign without passing zero, and the chamber then rests at the jump
         return x
@@ -284,34 +303,41 @@ def steady_flow(model=None, voltage_v: float = 5.0, supply_pa: float | None = No
 def steady_outputs(model=None, circuit: str = 'closed_port', voltage_v: float = 5.0,
                    supply_pa: float | None = None, config: ModelConfig | None = None
                    ) -> dict[str, float]:
-    """Steady p_a [Pa], T_a [K], m4 and m5 and the supply mass flow [kg/s] of a static circuit."""
+    """Steady p_a, p_b [Pa], T_a, T_b [K], m4 and m5 and the supply mass flow [kg/s] of a
+    static circuit (p_b and T_b: the blocked circuit's chamber b; the valve's dead end in the
+    others)."""
     model = as_model(model)
     cfg = config or model.config
     ps = cfg.core['supply_pressure_pa'] if supply_pa is None else supply_pa
     x = steady_state(model, circuit, voltage_v, ps, cfg)
     c, _ = _evaluate(model, model.param_vector(cfg), x, voltage_v, ps, CIRCUITS[circuit])
-    return {'p_a_pa': float(x[P_A]), 't_a_k': float(x[T_A]), 'm4_kg_s': float(c[C_M4]),
-            'm5_kg_s': float(c[C_M5]), 'supply_mass_flow_kg_s': float(c[C_MSUP])}
+    return {'p_a_pa': float(x[P_A]), 't_a_k': float(x[T_A]), 'p_b_pa': float(x[P_B]),
+            't_b_k': float(x[T_B]), 'm4_kg_s': float(c[C_M4]), 'm5_kg_s': float(c[C_M5]),
+            'supply_mass_flow_kg_s': float(c[C_MSUP])}
 
 
 def predict_static(model, exp, config: ModelConfig | None = None) -> dict[str, np.ndarray]:
-    """Steady outputs for each row of a static experiment (closed_port or flow CSV table).
+    """Steady outputs for each row of a static experiment (closed_port, flow or blocked CSV
+    table).
 
     Each row's ``command_v`` [V] and ``supply_pa`` [Pa abs] set the operating
     point; a measured supply temperature ``t_s_k`` [K] replaces the config's.
     Returns signal -> array over the rows: ``p_a_pa``, ``t_a_k``, ``m4_kg_s``,
-    ``m5_kg_s``. A row without a steady state gets NaN.
+    ``m5_kg_s``, and ``p_b_pa``, ``t_b_k`` for the blocked circuit (both
+    chambers). A row without a steady state gets NaN.
     """
     model = as_model(model)
     cfg = config or model.config
     if exp.circuit not in STATIC_CIRCUITS:
-        raise SimulationError(f'{exp.name}: a static table must be a closed_port or flow test, '
-                              f'not {exp.circuit!r}')
+        raise SimulationError(f'{exp.name}: a static table must be a closed_port, flow or '
+                              f'blocked test, not {exp.circuit!r}')
     n = len(exp.t)
     volts = exp['command_v']
     supplies = exp.signals.get('supply_pa', np.full(n, cfg.core['supply_pressure_pa']))
     temps = exp.signals.get('t_s_k')
     names = ('p_a_pa', 't_a_k', 'm4_kg_s', 'm5_kg_s')
+    if exp.circuit == 'blocked':
+        names += ('p_b_pa', 't_b_k')
     out = {k: np.full(n, np.nan) for k in names}
     for i in range(n):
         row_cfg = cfg

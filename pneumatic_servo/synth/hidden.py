@@ -54,6 +54,8 @@ SENSORS = S.SensorModel()
 RATE_HZ = SENSORS.rate_hz
 TIME_DESIGNS = ('sine', 'closed_loop', 'blocked')
 STATIC_DESIGNS = ('closed_port', 'flow')
+#: static tables that are not in every data set: the blocked circuit's settled pressures
+TABLE_DESIGNS = {'closed_port': 'closed_port', 'flow': 'flow', 'blocked_table': 'blocked'}
 #: default record lengths [s]
 DURATIONS = {'sine': 4.0, 'closed_loop': 8.0, 'blocked': 3.0}
 
@@ -275,27 +277,36 @@ def blocked_experiment(cfg: ModelConfig, rng: np.random.Generator, duration_s: f
 
 def static_table(cfg: ModelConfig, circuit: str, rng: np.random.Generator,
                  model: Model | None = None) -> Experiment:
-    """Steady closed-port pressures or flow-test flows at held voltages and two supplies.
+    """Steady closed-port pressures, flow-test flows, or the two chamber pressures of the
+    blocked circuit, at held voltages and two supplies.
 
     Each row is simulated in time until it settles (independently of the
     steady-state solver the diagnosis uses), then measured.
     """
     from ..model.circuits import static_response
     model = model or Model(cfg)
-    volts = np.round(np.concatenate([np.linspace(4.0, 6.0, 21), [6.5, 7.0, 8.0, 10.0]]), 3)
+    blocked = circuit == 'blocked'
+    volts = (np.round(np.linspace(4.0, 6.0, 9), 3) if blocked else
+             np.round(np.concatenate([np.linspace(4.0, 6.0, 21), [6.5, 7.0, 8.0, 10.0]]), 3))
     rows = []
     for supply in (SUPPLY_PA - 1e5, SUPPLY_PA + 1e5):
         for v in volts:
-            res = static_response(model, circuit, float(v), supply, duration_s=1.0,
-                                  sample_s=2e-3, config=cfg)
-            rows.append((v, supply, res.p_a_pa[-1], res['m4_kg_s'][-1], res['m5_kg_s'][-1]))
+            # the blocked chambers near the centre fill through the valve's small leaks
+            res = static_response(model, circuit, float(v), supply,
+                                  duration_s=12.0 if blocked else 1.0, sample_s=2e-3,
+                                  config=cfg)
+            rows.append((v, supply, res.p_a_pa[-1], res.p_b_pa[-1], res['m4_kg_s'][-1],
+                         res['m5_kg_s'][-1]))
     rows = np.array(rows)
     n = len(rows)
     true = {'command_v': rows[:, 0], 'supply_pa': rows[:, 1], 'p_a_pa': rows[:, 2]}
+    if blocked:
+        true['p_b_pa'] = rows[:, 3]
     if circuit == 'flow':
-        true.update(m4_kg_s=rows[:, 3], m5_kg_s=rows[:, 4])
+        true.update(m4_kg_s=rows[:, 4], m5_kg_s=rows[:, 5])
     sig = S.measure_static(true, rng, SENSORS)
-    return Experiment(np.arange(n, dtype=float), sig, circuit, circuit, static=True)
+    return Experiment(np.arange(n, dtype=float), sig, circuit, f'{circuit}_table' if blocked
+                      else circuit, static=True)
 
 
 # ---------------------------------------------------------------------------- data sets
@@ -329,11 +340,11 @@ def make_hidden_set(effects, seed: int = 0, designs=TIME_DESIGNS, durations=None
     for design in designs:
         if design in makers:
             exp = makers[design](cfg, rng, durations[design], rate_hz, model=model)
-        elif design in STATIC_DESIGNS:
-            exp = static_table(cfg, design, rng, model=model)
+        elif design in TABLE_DESIGNS:
+            exp = static_table(cfg, TABLE_DESIGNS[design], rng, model=model)
         else:
             raise ConfigError(f'unknown design {design!r}; use one of '
-                              f'{", ".join(TIME_DESIGNS + STATIC_DESIGNS)}')
+                              f'{", ".join(TIME_DESIGNS + tuple(TABLE_DESIGNS))}')
         exp.metadata['hidden_effects'] = {k: dict(v) for k, v in cfg.effects.items()}
         out.append(exp)
     return out
@@ -441,6 +452,18 @@ def write_demo_bag(bags_dir, seed: int = 7) -> Path:
                             compress=True)
 
 
+#: the bundled validation demo: a leak from both chambers, seen on two static tables
+VALIDATION_EFFECTS = {'external_leakage': {'leak_area_a_m2': 2e-8, 'leak_area_b_m2': 2e-8}}
+
+
+def write_validation_demo(bags_dir, seed: int = 12) -> Path:
+    """Write ``bags/validation_demo``: a closed-port table (chamber a only) and a blocked
+    table (both chambers settled) of a rig with a leak from each chamber to atmosphere; the
+    leak is found on the first and confirmed on the second (``diagnose --validate-on``)."""
+    return write_dataset(Path(bags_dir) / 'validation_demo', VALIDATION_EFFECTS, seed,
+                         ('closed_port', 'blocked_table'))
+
+
 def main(argv=None) -> int:
     """``python -m pneumatic_servo.synth.hidden OUT [--demo] [NAME ...]``."""
     import argparse
@@ -450,10 +473,12 @@ def main(argv=None) -> int:
     p.add_argument('out', help='directory to write into (e.g. tests/data/hidden or bags)')
     p.add_argument('names', nargs='*', help=f'data sets (default all: {", ".join(DATASETS)})')
     p.add_argument('--demo', action='store_true',
-                   help='write the bundled demo bag hidden_effect_demo instead')
+                   help='write the bundled demo bag hidden_effect_demo and the validation '
+                        'demo tables instead')
     args = p.parse_args(argv)
     if args.demo:
         print(write_demo_bag(args.out))
+        print(write_validation_demo(args.out))
         return 0
     for path in generate_test_data(args.out, args.names or None):
         print(path)

@@ -182,7 +182,7 @@ def measure_static(true: dict[str, np.ndarray], rng: np.random.Generator,
     out = {}
     for key, x in true.items():
         x = np.asarray(x, float)
-        if key in ('p_a_pa', 'supply_pa'):
+        if key in ('p_a_pa', 'p_b_pa', 'supply_pa'):
             noisy = x + rng.normal(0.0, s.pressure_noise_pa / root, x.shape)
             out[key] = quantise(noisy - s.atmospheric_pa, 1.0) + s.atmospheric_pa
         elif key == 'm4_kg_s':

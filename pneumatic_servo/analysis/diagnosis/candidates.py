@@ -64,6 +64,33 @@ def fit_parameters(model: Model, config: ModelConfig, keys: list[str], data: Dat
     return fit(prob, max_nfev=options.max_iter, xtol=XTOL, ftol=FTOL, bracket=bracket)
 
 
+def why_undetermined(config: ModelConfig, key: str, reason: str, data: Data) -> str:
+    """Why the data do not determine ``key``, and which record would: the part it belongs
+    to may not be in the circuits of these records (its ``Param`` or component says where
+    it acts), else ``reason`` from the identifiability test."""
+    owner, _, name = key.partition('.')
+    p = config.param(key)
+    acts = p.circuits or (registry.get(owner).circuits if owner != 'core' else ())
+    seen = sorted({e.circuit for e in data.experiments})
+    if acts and not set(acts) & set(seen):
+        part = p.part or owner
+        return (f'{part} is not part of the {" or ".join(seen)} circuit: a '
+                f'{" or ".join(acts)} record would determine it')
+    return f'{reason} in these records'
+
+
+def undetermined_values(config: ModelConfig, keys: list[str], undetermined: dict
+                        ) -> dict[str, float]:
+    """The values ``apply`` writes: each determined key as fitted, each undetermined one at
+    its effect's neutral value where there is one (never silently at a default)."""
+    out = {}
+    for key in keys:
+        owner, _, name = key.partition('.')
+        neutral = registry.get(owner).neutral or {}
+        out[key] = neutral[name] if key in undetermined and name in neutral else config.get(key)
+    return out
+
+
 def trial_grid(p) -> np.ndarray:
     """Trial values of parameter ``p`` over its plausible range, logarithmic on each side of 0."""
     lo, hi = p.plausible_range()
@@ -178,6 +205,11 @@ class Candidate:
     summary: str = ''
     #: False if the candidate was screened out after the coarse grid (not fitted)
     fitted: bool = True
+    #: fitted keys the data do not determine -> why (left out of the criterion; ``apply``
+    #: writes them at their neutral value where the effect has one)
+    undetermined: dict[str, str] = field(default_factory=dict)
+    #: scores on other experiments (``--validate-on``), if any were given
+    validation: object = None
     #: filled by the ranking: information criteria against the baseline, the held-out RMS
     #: [normalised] of the error the effect explains, sqrt(base^2 - cand^2), and the sensor
     #: noise it is compared with
@@ -204,6 +236,8 @@ class Candidate:
                 if self.correlation is not None else None,
                 'explained_rms': self.explained_rms, 'noise_rms': self.noise_rms,
                 'converged': self.converged, 'fitted': self.fitted,
+                'undetermined': dict(self.undetermined),
+                'validation': self.validation.to_json() if self.validation else None,
                 'fit_seconds': round(self.seconds, 2)}
 
 
@@ -218,16 +252,19 @@ def try_effect(screen: Screen, base: Baseline, data: Data, free: list[str],
     name, keys = screen.name, screen.keys
     cls_ = registry.get(name)
     host = with_values(screen.host, list(screen.start), list(screen.start.values()))
+    undetermined = {}
     if full_fit:
         result = fit_parameters(screen.model, host, keys + [k for k in free if k not in keys],
                                 data, options)
         fitted, stderr = result.config, result.stderr
         at_bound, corr, converged = result.at_bound, result.correlation, result.converged
+        undetermined = {k: why_undetermined(fitted, k, result.identifiability.reason(k), data)
+                        for k in keys if stderr[k] is None}
     else:
         fitted, stderr = host, {k: float('nan') for k in keys + list(free)}
         at_bound, corr, converged = [], None, False
     score = score_many(screen.model, data, [fitted])[0]
-    values = {k: fitted.get(k) for k in keys}
+    values = undetermined_values(fitted, keys, undetermined)
     fixed = {f'{name}.{p.name}': fitted.get(f'{name}.{p.name}')
              for p in cls_.params if not p.fit}
     base_values = {k: fitted.get(k) for k in free}
@@ -240,7 +277,9 @@ def try_effect(screen: Screen, base: Baseline, data: Data, free: list[str],
         error_reduction=relative_fall(score.overall, base.score.overall),
         channel_reduction={ch: relative_fall(v, base.score.channels.get(ch, 0.0))
                            for ch, v in score.channels.items()},
-        n_params=len(keys), problems=plausibility(fitted, values, at_bound), config=clean,
-        correlation=corr, converged=converged,
+        n_params=len(keys) - len(undetermined),
+        problems=plausibility(fitted, {k: v for k, v in values.items() if k not in undetermined},
+                              at_bound),
+        config=clean, correlation=corr, converged=converged, undetermined=undetermined,
         seconds=screen.seconds + time.perf_counter() - t0, acts_on=cls_.acts_on,
         summary=cls_.summary, fitted=full_fit)

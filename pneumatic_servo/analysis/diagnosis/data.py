@@ -7,7 +7,7 @@ import numpy as np
 
 from ...errors import ExperimentError
 from ...experiment import CHANNELS, Experiment
-from ...fitting import Part, channel_scales
+from ...fitting import Part, channel_scales, residual_rows
 from ...prediction import quiet_starts
 from .options import DiagnoseOptions
 
@@ -77,21 +77,36 @@ class Data:
     fit: list[Part]
     val: list[Part]
 
-    @property
-    def noise(self) -> float:
+    def noise(self, model=None, config=None) -> float:
         """Sensor noise in the validation residuals, pooled and normalised like
-        :class:`~.scoring.Score`: :func:`noise_sigma` of each measured channel over its
-        spread, divided by the square root of the smoothing width, as the residuals are
-        smoothed."""
+        :class:`~.scoring.Score`, divided by the square root of the smoothing width, as the
+        residuals are smoothed.
+
+        Time series: :func:`noise_sigma` of each measured channel, whose signal is smooth
+        at the sample rate. Static tables: each row is another operating point, so the
+        measurement itself is no measure of noise; :func:`noise_sigma` of the residual of
+        ``config`` (the model as given, compiled as ``model``) is, where that model is
+        smooth across rows (a table alone, without a model, counts no noise).
+        """
         total, count = 0.0, 0
         for part in self.val:
+            rows = None
+            if part.plan is None:
+                if model is None:
+                    continue
+                rows = residual_rows(model, [part], [config])[0]
             for ch, scale in part.scales.items():
-                x = part.measured(CHANNELS[ch].signal)
+                x = rows[ch] if rows is not None else part.measured(CHANNELS[ch].signal) / scale
                 if len(x) < 5:
                     continue
-                total += len(x) * (noise_sigma(x) / scale) ** 2 / part.smooth
+                total += len(x) * noise_sigma(x) ** 2 / part.smooth
                 count += len(x)
         return float(np.sqrt(total / count)) if count else 0.0
+
+    @property
+    def whole(self) -> list[Part]:
+        """Every part, fitted and held out: the whole of each experiment."""
+        return self.fit + self.val
 
     @property
     def independent(self) -> int:

@@ -74,7 +74,7 @@ def _params(term: Discovered) -> str:
     for reg, value in term.terms.items():
         p = decl[f'{reg}_coefficient']
         what = f'{cls_.equation.description} per unit of {_DESCRIPTIONS[reg]}'
-        if stderr.get(reg) is not None:
+        if stderr.get(reg) is not None and stderr[reg] == stderr[reg]:
             what += f' (fitted +/- {stderr[reg]:.2g})'
         lines.append(f"        Param({p.name!r}, {p.unit!r}, {value!r}, {p.lower!r}, "
                      f"{p.upper!r},\n              {what!r},\n"

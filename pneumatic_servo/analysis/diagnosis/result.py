@@ -30,6 +30,8 @@ class Diagnosis:
     timings: dict[str, float] = field(default_factory=dict)
     #: where the model as given fails: regime shares, hot spots, residual tests
     where: dict = field(default_factory=dict)
+    #: names of the other experiments every candidate was also scored on (validation)
+    validated_on: list[str] = field(default_factory=list)
     #: the prepared experiments and the model's predictions of them (for reports)
     data: Data = field(default=None, repr=False)
     base_predictions: list = field(default=None, repr=False)
@@ -72,6 +74,7 @@ class Diagnosis:
                 'ladder': self.ladder,
                 'where': self.where,
                 'experiments': list(self.experiments), 'free': list(self.free),
+                'validated_on': list(self.validated_on),
                 'options': self.options.to_json(),
                 'noise_rms': noise, 'consistent_ratio': CONSISTENT_RATIO,
                 'seconds': round(self.seconds, 2),

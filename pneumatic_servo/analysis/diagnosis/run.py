@@ -47,6 +47,7 @@ from .ladder import ladder
 from .options import DiagnoseOptions
 from .result import Diagnosis
 from .status import certain, consistent, decide
+from .validation import score_on, validate
 from .verdict import earns_place, rank
 
 
@@ -93,7 +94,7 @@ def present_keys(config: ModelConfig) -> list[str]:
 
 def diagnose(experiments: list[Experiment], config: ModelConfig | None = None,
              effects=None, free=(), options: DiagnoseOptions | None = None,
-             progress=None) -> Diagnosis:
+             progress=None, validate_on: list[Experiment] | None = None) -> Diagnosis:
     """Find the physical effect missing from ``config`` that the ``experiments`` show.
 
     Parameters
@@ -112,6 +113,9 @@ def diagnose(experiments: list[Experiment], config: ModelConfig | None = None,
         Fit and scoring settings.
     progress : callable, optional
         Called with each finished :class:`~.candidates.Candidate`.
+    validate_on : list of Experiment, optional
+        Other experiments (any circuit) on which every candidate and every rung of
+        the ladder is also scored, whole (:mod:`.validation`).
 
     Returns
     -------
@@ -143,14 +147,15 @@ def diagnose(experiments: list[Experiment], config: ModelConfig | None = None,
         candidates.append(cand)
         if progress is not None:
             progress(cand)
-    noise = data.noise
+    host = shared_host(base.config)
+    noise = data.noise(Model(host), host)
     ranking = rank(candidates, base, options, data.independent, noise)
     found = []
     if options.discover and (any(certain(c, options) or earns_place(c, options)
                                  for c in ranking)
                              or not consistent(base.score.overall, noise)):
         t1 = time.perf_counter()
-        found = look_for_terms(base, data, free, options, progress)
+        found = look_for_terms(base, data, free, options, noise, progress)
         timings['discovery'] = time.perf_counter() - t1
         # one effective sample count for all, so that named and generic compare fairly
         joint = rank(candidates + found, base, options, data.independent, noise)
@@ -162,25 +167,38 @@ def diagnose(experiments: list[Experiment], config: ModelConfig | None = None,
         t1 = time.perf_counter()
         on_top = Baseline(winner.config, winner.score, base.values)
         found = look_for_terms(on_top, data, free + present_keys(winner.config), options,
-                               progress)
+                               noise, progress)
         timings['discovery_on_top'] = time.perf_counter() - t1
+    other = Data.of(validate_on, options) if validate_on else None
+    if other is not None:
+        t1 = time.perf_counter()
+        base_other = score_on(base.config, shared_host, other)
+        for c in ranking + found:
+            c.validation = validate(c, base_other, other)
+        timings['validation'] = time.perf_counter() - t1
+        winner = next((c for c in ranking + found if c.effect == finding.verdict), None)
+        if winner is not None and winner.validation.hurts:
+            finding.reason += (f'; but it makes the other experiments worse (error '
+                               f'{-100 * winner.validation.error_reduction:+.0f} %): it may '
+                               'only overfit this one')
     result = Diagnosis(finding, ranking, base, options, free, [e.name for e in experiments],
                        0.0, discovered=found if finding.status in (
                            'partly_explained', 'unexplained') else [],
-                       timings=timings, where=where, data=data, base_predictions=base_preds)
+                       timings=timings, where=where, data=data, base_predictions=base_preds,
+                       validated_on=[e.name for e in validate_on or ()])
     t1 = time.perf_counter()
-    result.ladder = ladder(config, data, result.added, base)
+    result.ladder = ladder(config, data, result.added, base, other)
     timings['ladder'] = time.perf_counter() - t1
     result.seconds = time.perf_counter() - t0
     return result
 
 
 def look_for_terms(base: Baseline, data: Data, free: list[str], options: DiagnoseOptions,
-                   progress=None) -> list:
+                   noise: float, progress=None) -> list:
     """Generic corrections of ``base``, confirmed and ranked best first (:mod:`.discovery`)."""
     n_eff = max(effective_samples(base.score.residual), float(data.independent))
     found = discover(base, data, free, n_eff, options)
     for term in found:
         if progress is not None:
             progress(term)
-    return rank(found, base, options, data.independent, data.noise)
+    return rank(found, base, options, data.independent, noise)

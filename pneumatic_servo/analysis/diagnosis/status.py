@@ -17,12 +17,14 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 from .candidates import Candidate
-from .options import DiagnoseOptions
+from .options import MIN_NOISE_RATIO, DiagnoseOptions
 from .verdict import earns_place, shortfalls, suggest_experiment
 
 #: a held-out residual within this many times the sensor noise is consistent with a
-#: correct model (clean data: 1.05 x; data with the right effect added: 1.0-1.8 x)
-CONSISTENT_RATIO = 2.5
+#: correct model (clean data: 1.05-1.3 x; one or two right effects added: 1.0-2.6 x). The
+#: same factor as an effect's practical size (``MIN_NOISE_RATIO``): an error below it is no
+#: finding, and a residual below it is what noise leaves
+CONSISTENT_RATIO = MIN_NOISE_RATIO
 #: a named effect with at least this BIC gain (and the other tests of earning a place but
 #: the practical size) is statistically certain: reported as small, never hidden
 CERTAIN_DELTA_BIC = -100.0

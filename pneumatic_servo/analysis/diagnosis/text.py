@@ -8,6 +8,13 @@ from __future__ import annotations
 from .result import Diagnosis
 
 
+def plus_minus(value: float, stderr: float | None) -> str:
+    """``value +/- stderr``, or ``value (not determined)`` when the data do not determine it."""
+    if stderr is None or stderr != stderr:
+        return f'{value:.4g} (not determined)'
+    return f'{value:.4g} +/- {stderr:.2g}'
+
+
 def print_where(result: Diagnosis, out=print) -> None:
     """The regimes that hold the most error and the sentence of the residual tests."""
     spots = result.where.get('hot_spots', [])
@@ -23,13 +30,27 @@ def print_where(result: Diagnosis, out=print) -> None:
 
 
 def print_ranking(result: Diagnosis, out=print) -> None:
-    """One line per candidate: held-out error reduction, BIC change, fitted values."""
-    out(f'{"effect":<24} {"error red.":>10} {"dBIC":>9}  fitted values (+/- 1 s.e.)')
+    """One line per candidate: held-out error reduction (and on the other experiments, when
+    validated), BIC change, fitted values, and what the data could not determine."""
+    other = bool(result.validated_on)
+    out(f'{"effect":<24} {"error red.":>10}' + (f' {"on others":>10}' if other else '')
+        + f' {"dBIC":>9}  fitted values (+/- 1 s.e.)')
     for c in result.ranking:
-        vals = ', '.join(f'{k.partition(".")[2]}={v:.4g}+/-{c.stderr[k]:.2g}'
+        vals = ', '.join(f'{k.partition(".")[2]}={plus_minus(v, c.stderr[k])}'
                          for k, v in c.params.items())
         note = '' if c.plausible else '  [implausible]'
-        out(f'{c.effect:<24} {100 * c.error_reduction:9.1f}% {c.delta_bic:9.1f}  {vals}{note}')
+        if c.undetermined:
+            note += '  [not determined: ' + '; '.join(
+                f'{k.partition(".")[2]}: {why}' for k, why in c.undetermined.items()) + ']'
+        val = ''
+        if other and c.validation is not None:
+            val = f' {100 * c.validation.error_reduction:9.1f}%'
+            note += '  [HURTS the other experiments]' if c.validation.hurts else ''
+        out(f'{c.effect:<24} {100 * c.error_reduction:9.1f}%{val} {c.delta_bic:9.1f}  '
+            f'{vals}{note}')
+    for c in result.ranking:
+        if c.validation is not None and c.validation.assumptions:
+            out(f'  {c.effect} on the other experiments: ' + '; '.join(c.validation.assumptions))
 
 
 def print_ladder(ladder: list[dict], out=print) -> None:
@@ -37,11 +58,14 @@ def print_ladder(ladder: list[dict], out=print) -> None:
     if not ladder:
         return
     chans = list(ladder[0]['channels'])
+    other = 'validation' in ladder[0]
     out('ladder (held-out RMS / channel spread):')
-    out(f'  {"model":<28}' + ''.join(f'{ch:>10}' for ch in chans) + f'{"overall":>10}')
+    out(f'  {"model":<28}' + ''.join(f'{ch:>10}' for ch in chans) + f'{"overall":>10}'
+        + (f'{"on others":>11}' if other else ''))
     for r in ladder:
+        val = f'{r["validation"]["overall"]:11.4f}' if other and 'validation' in r else ''
         out(f'  {r["model"]:<28}' + ''.join(f'{r["channels"].get(ch, float("nan")):10.4f}'
-                                            for ch in chans) + f'{r["overall"]:10.4f}')
+                                            for ch in chans) + f'{r["overall"]:10.4f}' + val)
 
 
 #: the status in words a user cannot misread
@@ -59,8 +83,8 @@ def print_discovered(result: Diagnosis, out=print) -> None:
         return
     out('generic correction terms (where the missing physics lives):')
     for d in result.discovered:
-        terms = ', '.join(f'{r} {v:+.4g} +/- {d.to_json()["stderr"][r]:.2g}'
-                          for r, v in d.terms.items())
+        se = d.to_json()['stderr']
+        terms = ', '.join(f'{r} {plus_minus(v, se[r])}' for r, v in d.terms.items())
         out(f'  {d.equation:<20} {100 * d.error_reduction:6.1f} %  {terms}')
         out(f'  {"":<20} -> {d.interpretation}')
 
@@ -79,7 +103,14 @@ def print_verdict(result: Diagnosis, out=print) -> None:
 
 
 def apply_header(result: Diagnosis) -> str:
-    """Comment lines for a config written with what the diagnosis found applied."""
+    """Comment lines for a config written with what the diagnosis found applied; a value the
+    data do not determine is said to be one, with the value written and why."""
     c = result.added
-    return (f'diagnose: added {c.effect} (held-out error -{100 * c.error_reduction:.1f} %)\n'
-            + '\n'.join(f'{k} = {v:.6g} +/- {c.stderr[k]:.2g}' for k, v in c.params.items()))
+    lines = [f'diagnose: added {c.effect} (held-out error -{100 * c.error_reduction:.1f} %)']
+    for k, v in c.params.items():
+        if k in c.undetermined:
+            lines.append(f'{k} = {v:.6g}: NOT FITTED, left at its neutral value; '
+                         f'{c.undetermined[k]}')
+        else:
+            lines.append(f'{k} = {plus_minus(v, c.stderr[k])}')
+    return '\n'.join(lines)
