@@ -86,6 +86,9 @@ def predictions(exp: Experiment, config: ModelConfig, modes=MODES,
 def channel_table(exp: Experiment, pred: dict[str, np.ndarray], skip_s: float = 0.0) -> dict:
     """Metrics of every channel measured in ``exp`` and predicted in ``pred``."""
     keep = slice(None) if exp.static else exp.t >= exp.t[0] + skip_s
+    if not exp.static and np.count_nonzero(keep) < 2:
+        raise ExperimentError(f'{exp.name}: skipping the first {skip_s:g} s leaves nothing to '
+                              f'compare (the record lasts {exp.duration:g} s); skip less')
     out = {}
     for ch, (sig, _) in COMPARED.items():
         if sig in exp.signals and sig in pred:

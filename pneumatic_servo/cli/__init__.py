@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import argparse
 import importlib
+import os
 import sys
 
 from ..errors import PneumaticServoError
@@ -17,8 +18,20 @@ VERBS = ('demo', 'simulate', 'compare', 'verify', 'identify', 'diagnose', 'gener
          'record', 'plant', 'controller')
 
 
+class Parser(argparse.ArgumentParser):
+    """An argument parser whose errors are one line (the usage is one ``--help`` away)."""
+
+    def error(self, message: str):
+        self.exit(2, f'{self.prog}: error: {message}; see {self.prog} --help\n')
+
+
+def one_line(text: str) -> str:
+    """``text`` on one line: a message from a library may span several."""
+    return ' '.join(str(text).split())
+
+
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
+    parser = Parser(
         prog='pneumatic-servo',
         description='Model, identify and diagnose a pneumatic rotary position servo; run its '
                     'ROS 2 nodes.')
@@ -35,17 +48,32 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
-
 def main(argv=None) -> int:
     parser = build_parser()
-    args = parser.parse_args(argv)
+    args, extra = parser.parse_known_args(argv)
+    if extra:
+        print(f'pneumatic-servo {args.verb}: error: unrecognized arguments: {" ".join(extra)}; '
+              f'see pneumatic-servo {args.verb} --help', file=sys.stderr)
+        return 2
     try:
         return int(args.run(args) or 0)
     except PneumaticServoError as exc:
-        print(f'pneumatic-servo {args.verb}: error: {exc}', file=sys.stderr)
+        print(f'pneumatic-servo {args.verb}: error: {one_line(exc)}', file=sys.stderr)
+        return 2
+    except (OSError, UnicodeError) as exc:
+        # a file the user named cannot be read or written: their input, one line
+        print(f'pneumatic-servo {args.verb}: error: {one_line(exc)}; check the path and its '
+              'permissions', file=sys.stderr)
         return 2
     except KeyboardInterrupt:
         return 130
+    except Exception as exc:  # a bug: one line for the user, the traceback on request
+        if os.environ.get('PNEUMATIC_SERVO_DEBUG'):
+            raise
+        print(f'pneumatic-servo {args.verb}: internal error: {type(exc).__name__}: '
+              f'{one_line(exc)}; please report it (PNEUMATIC_SERVO_DEBUG=1 shows the '
+              'traceback)', file=sys.stderr)
+        return 3
 
 
 if __name__ == '__main__':

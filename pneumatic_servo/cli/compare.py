@@ -13,6 +13,9 @@ import json
 import math
 from pathlib import Path
 
+from ..prediction import COMPARE_HORIZON_S
+from .options import output_dir, output_file, positive_seconds, seconds
+
 
 def add_parser(sub) -> argparse.ArgumentParser:
     p = sub.add_parser('compare', help='compare a recorded experiment with the model '
@@ -21,13 +24,14 @@ def add_parser(sub) -> argparse.ArgumentParser:
     p.add_argument('bag', metavar='BAG', help='rosbag2 directory (sqlite3 or MCAP) or static CSV')
     p.add_argument('--config', metavar='CFG', help='model config YAML (default: the paper\'s)')
     p.add_argument('--effects', metavar='E1,E2', help='catalogue effects to add (default values)')
-    p.add_argument('--json', metavar='PATH', help='write the results as JSON')
-    p.add_argument('--report', metavar='DIR', help='write plots (and an HTML report) into DIR')
+    p.add_argument('--json', metavar='PATH', type=output_file, help='write the results as JSON')
+    p.add_argument('--report', metavar='DIR', type=output_dir,
+                   help='write plots (and an HTML report) into DIR')
     p.add_argument('--mode', choices=('open_loop', 'k_step'), default='open_loop',
                    help='view reported under "channels" (the other is under its own name)')
-    p.add_argument('--horizon', type=float, default=0.2, metavar='S',
-                   help='k-step prediction horizon [s] (default 0.2)')
-    p.add_argument('--skip', type=float, default=0.0, metavar='S',
+    p.add_argument('--horizon', type=positive_seconds, default=COMPARE_HORIZON_S, metavar='S',
+                   help=f'k-step prediction horizon [s] (default {COMPARE_HORIZON_S:g})')
+    p.add_argument('--skip', type=seconds, default=0.0, metavar='S',
                    help='leave the first S seconds out of the metrics')
     p.add_argument('--validate-on', nargs='+', metavar='OTHER', default=[],
                    help='also compare the same model with these experiments (any circuit); '

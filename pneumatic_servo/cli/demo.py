@@ -19,6 +19,7 @@ from typing import Callable, Optional
 
 from ..errors import ConfigError, PneumaticServoError
 from ..workflow import run_discrepancy_demo
+from .options import output_dir
 
 
 @dataclass(frozen=True)
@@ -63,7 +64,7 @@ def add_parser(sub) -> argparse.ArgumentParser:
                     'tests, switchable parts), then the closed loop over DDS and the '
                     'discrepancy workflow where built. Writes PNG figures, summary.json and '
                     'prints a table.')
-    p.add_argument('--out', default='out', metavar='DIR',
+    p.add_argument('--out', default='out', metavar='DIR', type=output_dir,
                    help='output directory (default: out)')
     p.add_argument('--config', metavar='CFG',
                    help="model config YAML (default: the paper's model, as in "

@@ -28,6 +28,7 @@ from ..errors import ConfigError
 from ..io import read_experiment
 from ..model.config import ModelConfig
 from ..prediction import DIAGNOSIS_HORIZON_S
+from .options import fraction, output_dir, output_file, positive_seconds
 
 
 def add_parser(sub) -> argparse.ArgumentParser:
@@ -41,11 +42,12 @@ def add_parser(sub) -> argparse.ArgumentParser:
     p.add_argument('--validate-on', nargs='+', metavar='OTHER', default=[],
                    help='other experiments (any circuit) on which every candidate and the '
                         'ladder are scored too: is what DATA shows confirmed elsewhere?')
-    p.add_argument('--json', metavar='PATH', help='write the diagnosis as JSON')
-    p.add_argument('--report', metavar='DIR', help='write an HTML report with plots into DIR')
-    p.add_argument('--apply', metavar='OUT.yaml',
+    p.add_argument('--json', metavar='PATH', type=output_file, help='write the diagnosis as JSON')
+    p.add_argument('--report', metavar='DIR', type=output_dir,
+                   help='write an HTML report with plots into DIR')
+    p.add_argument('--apply', metavar='OUT.yaml', type=output_file,
                    help='write the model with the winning effect added and fitted')
-    p.add_argument('--emit-effect', metavar='PATH.py',
+    p.add_argument('--emit-effect', metavar='PATH.py', type=output_file,
                    help='write the best discovered correction as a user effect class (a '
                         'Python file to rename and use as PATH.py:Class)')
     p.add_argument('--free', metavar='KEY,...', default='',
@@ -53,10 +55,10 @@ def add_parser(sub) -> argparse.ArgumentParser:
                         "'stribeck_friction.coulomb_friction_n'")
     p.add_argument('--effects', metavar='E1,E2', default='',
                    help='candidate effects to try (default: all registered)')
-    p.add_argument('--horizon', type=float, default=None, metavar='S',
+    p.add_argument('--horizon', type=positive_seconds, default=None, metavar='S',
                    help='prediction horizon [s] from each measured state (default '
                         f'{DIAGNOSIS_HORIZON_S:g})')
-    p.add_argument('--min-reduction', type=float, default=None, metavar='F',
+    p.add_argument('--min-reduction', type=fraction, default=None, metavar='F',
                    help='smallest held-out error reduction that can name an effect '
                         f'(default {MIN_REDUCTION:g})')
     p.add_argument('--quiet', action='store_true', help='print only the verdict')

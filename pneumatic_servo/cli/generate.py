@@ -10,13 +10,16 @@ from __future__ import annotations
 
 import argparse
 
+from .options import number
+
 
 def add_parser(sub) -> argparse.ArgumentParser:
     p = sub.add_parser('generate', help='regenerate the synthetic experiment library (bags/)',
                        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument('outdir', metavar='OUTDIR', nargs='?', help='directory to write (e.g. bags/)')
     p.add_argument('--designs', metavar='D1,D2', help='only these designs (see --list)')
-    p.add_argument('--seed', type=int, default=None, help='base noise seed (default 2019)')
+    p.add_argument('--seed', type=number(0, 2**32 - 1, integer=True), default=None,
+                   help='base noise seed (default 2019)')
     p.add_argument('--config', metavar='CFG',
                    help='rig to generate from (default: the synthetic rig, synth.truth)')
     p.add_argument('--force', action='store_true', help='replace existing records')

@@ -16,6 +16,8 @@ import argparse
 import json
 from pathlib import Path
 
+from .options import number, output_dir, output_file, positive_seconds
+
 
 def add_parser(sub) -> argparse.ArgumentParser:
     p = sub.add_parser('identify', help='identify C1, h and friction from recorded experiments; '
@@ -23,14 +25,15 @@ def add_parser(sub) -> argparse.ArgumentParser:
                        formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument('inputs', nargs='+', metavar='INPUT',
                    help='bag directories, static CSV files, or directories holding them')
-    p.add_argument('--out', required=True, metavar='CFG', help='config YAML to write')
+    p.add_argument('--out', required=True, metavar='CFG', type=output_file,
+                   help='config YAML to write')
     p.add_argument('--config', metavar='BASE', help='base config YAML: geometry and everything '
                    'not identified (default: the paper\'s)')
     p.add_argument('--steps', default='flow,heat,friction', metavar='S1,S2',
                    help='procedures to run: flow, heat, friction (default all that have data)')
     p.add_argument('--friction-method', choices=('least_squares', 'geometric'),
                    default='least_squares', help='Stribeck estimate written to the config')
-    p.add_argument('--thermocouple-tau', type=float, default=None, metavar='S',
+    p.add_argument('--thermocouple-tau', type=positive_seconds, default=None, metavar='S',
                    help='thermocouple time constant [s] (default: from the records\' metadata)')
     p.add_argument('--refine', metavar='KEY1,KEY2',
                    help="parameters ('owner.name') to refine by output error afterwards")
@@ -39,9 +42,11 @@ def add_parser(sub) -> argparse.ArgumentParser:
     p.add_argument('--refine-bounds', metavar='KEY=LO:HI,...',
                    help='bounds of refined parameters [SI] (default: their declared bounds)')
     p.add_argument('--refine-mode', choices=('open_loop', 'k_step'), default='open_loop')
-    p.add_argument('--max-nfev', type=int, default=30, help='refinement evaluations (default 30)')
-    p.add_argument('--json', metavar='PATH', help='write the results as JSON')
-    p.add_argument('--plots', metavar='DIR', help='write the identification plots into DIR')
+    p.add_argument('--max-nfev', type=number(1, 10000, integer=True), default=30,
+                   help='refinement evaluations (default %(default)s)')
+    p.add_argument('--json', metavar='PATH', type=output_file, help='write the results as JSON')
+    p.add_argument('--plots', metavar='DIR', type=output_dir,
+                   help='write the identification plots into DIR')
     p.set_defaults(run=run)
     return p
 

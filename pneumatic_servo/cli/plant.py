@@ -4,10 +4,12 @@ from __future__ import annotations
 import argparse
 import math
 
+from .options import number, positive_seconds_or_inf
+
 
 def add_common(p: argparse.ArgumentParser) -> None:
     """Options every ROS verb shares."""
-    p.add_argument('--duration', type=float, default=math.inf, metavar='S',
+    p.add_argument('--duration', type=positive_seconds_or_inf, default=math.inf, metavar='S',
                    help='stop after S wall-clock seconds (default: until Ctrl-C / SIGTERM)')
     p.add_argument('--namespace', default='', metavar='NS',
                    help='ROS namespace for the nodes (topics are relative and move with it)')
@@ -22,7 +24,8 @@ def add_plant_options(p: argparse.ArgumentParser, set_flag: str = '--set') -> No
     p.add_argument('--clock', choices=('free', 'lockstep'), default='free',
                    help='sim: free-running real time or lockstep with the controller '
                         '(default: free)')
-    p.add_argument('--rate', type=float, metavar='HZ', help='sample rate (default 1000 Hz)')
+    p.add_argument('--rate', type=number(1.0, 10000.0, unit='Hz'), metavar='HZ',
+                   help='sample rate (default 1000 Hz)')
     p.add_argument('--config', metavar='CFG', help="model config YAML (default: the paper's)")
     p.add_argument('--rig-config', metavar='YAML',
                    help='rig wiring and scaling (default: config/rig_pci6229.yaml)')

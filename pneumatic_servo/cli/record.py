@@ -6,6 +6,7 @@ import json
 import math
 
 from ..errors import ConfigError
+from .options import new_path, output_file, positive_seconds
 
 
 def add_parser(sub) -> argparse.ArgumentParser:
@@ -14,11 +15,11 @@ def add_parser(sub) -> argparse.ArgumentParser:
         description='Record joint_states, the pressures and temperatures, valve/command and '
                     'setpoint to a new rosbag2 directory with rosbags; `ros2 bag info/play` '
                     'read it on a ROS install.')
-    p.add_argument('out', metavar='OUT', help='new bag directory')
-    p.add_argument('--duration', type=float, required=True, metavar='S',
+    p.add_argument('out', metavar='OUT', type=new_path, help='new bag directory')
+    p.add_argument('--duration', type=positive_seconds, required=True, metavar='S',
                    help='how long to record [s], from the first message (on /clock with '
                         '--use-sim-time)')
-    p.add_argument('--wait', type=float, default=30.0, metavar='S',
+    p.add_argument('--wait', type=positive_seconds, default=30.0, metavar='S',
                    help='give up if no message arrives within S seconds (default 30)')
     p.add_argument('--storage', choices=('sqlite3', 'mcap'), default='sqlite3',
                    help='storage plugin (default: sqlite3)')
@@ -26,7 +27,8 @@ def add_parser(sub) -> argparse.ArgumentParser:
                    help='comma-separated subset of the interface topics (default: all)')
     p.add_argument('--use-sim-time', action='store_true',
                    help='time stamps and duration from /clock (lockstep simulation)')
-    p.add_argument('--json', metavar='PATH', help='write the message counts as JSON')
+    p.add_argument('--json', metavar='PATH', type=output_file,
+                   help='write the message counts as JSON')
     p.add_argument('--ros-args', dest='ros_args', nargs=argparse.REMAINDER, default=None,
                    help='everything after this goes to ROS (e.g. -r __ns:=/robot)')
     p.set_defaults(run=run)
@@ -38,10 +40,11 @@ def run(args) -> int:
         raise ConfigError(f'--duration {args.duration:g}: give a positive number of seconds')
     from ..ros import require_rclpy
     require_rclpy()
-    from ..ros.recorder import DEFAULT_TOPICS, record
+    from ..ros.recorder import DEFAULT_TOPICS, check_topics, record
     topics = DEFAULT_TOPICS
     if args.topics:
         topics = tuple(t.strip() for t in args.topics.split(',') if t.strip())
+    check_topics(topics)
     ros_args = ['pneumatic-servo', '--ros-args', *args.ros_args] if args.ros_args else None
     result = record(args.out, args.duration, args.storage, topics, args.use_sim_time, ros_args,
                     args.wait)

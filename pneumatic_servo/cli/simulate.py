@@ -10,13 +10,15 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from .options import new_path
+
 
 def add_parser(sub) -> argparse.ArgumentParser:
     p = sub.add_parser('simulate', help='run the model on a recorded experiment; write its '
                        'prediction as a bag (or CSV) with the same topics',
                        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument('bag', metavar='BAG', help='rosbag2 directory (sqlite3 or MCAP) or static CSV')
-    p.add_argument('--out', required=True, metavar='OUT_BAG',
+    p.add_argument('--out', required=True, metavar='OUT_BAG', type=new_path,
                    help='new bag directory (or .csv file for a CSV input) to write')
     p.add_argument('--config', metavar='CFG', help='model config YAML (default: the paper\'s)')
     p.add_argument('--effects', metavar='E1,E2', help='catalogue effects to add (default values)')

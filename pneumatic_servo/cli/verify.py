@@ -15,6 +15,9 @@ import json
 import math
 from pathlib import Path
 
+from ..prediction import COMPARE_HORIZON_S
+from .options import output_file, positive_seconds, seconds
+
 
 def add_parser(sub) -> argparse.ArgumentParser:
     p = sub.add_parser('verify', help='check a recorded experiment against the model; exit 0 '
@@ -33,11 +36,11 @@ def add_parser(sub) -> argparse.ArgumentParser:
     p.add_argument('--effects', metavar='E1,E2', help='catalogue effects to add (default values)')
     p.add_argument('--mode', choices=('open_loop', 'k_step'), default='open_loop',
                    help='prediction view whose errors are checked (default open_loop)')
-    p.add_argument('--horizon', type=float, default=0.2, metavar='S',
+    p.add_argument('--horizon', type=positive_seconds, default=COMPARE_HORIZON_S, metavar='S',
                    help='k-step prediction horizon [s] (default 0.2)')
-    p.add_argument('--skip', type=float, default=0.0, metavar='S',
+    p.add_argument('--skip', type=seconds, default=0.0, metavar='S',
                    help='leave the first S seconds out of the check')
-    p.add_argument('--json', metavar='PATH', help='write the check as JSON')
+    p.add_argument('--json', metavar='PATH', type=output_file, help='write the check as JSON')
     p.set_defaults(run=run)
     return p
 

@@ -19,7 +19,9 @@ class Spec:
     """One parameter. The type is the type of ``default`` (float, int, bool or str).
 
     ``lo``/``hi`` bound numbers (inclusive); ``choices`` lists the allowed
-    strings; ``read_only`` parameters are fixed after start-up.
+    strings; ``read_only`` parameters are fixed after start-up; ``safety`` ones
+    (the watchdog, the clamp range, the safe voltage) are fixed while the node is
+    active, so that no peer can loosen them under a running valve.
     """
 
     name: str
@@ -31,6 +33,7 @@ class Spec:
     choices: tuple[str, ...] = ()
     read_only: bool = False
     allow_nan: bool = False
+    safety: bool = False
 
     @property
     def kind(self) -> type:

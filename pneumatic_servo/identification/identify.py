@@ -14,6 +14,7 @@ writes as the YAML the nodes and the CLI take as it is.
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -172,6 +173,17 @@ def refinement_report(fit: FitResult) -> str:
     return '\n'.join(out)
 
 
+def _apply(cfg: ModelConfig, values: dict[str, float], step: str) -> None:
+    """Write identified ``values`` into ``cfg``; a value outside its parameter's bounds is
+    refused, never written."""
+    for key, value in values.items():
+        try:
+            cfg.set(key, value)
+        except ConfigError as exc:
+            raise ExperimentError(f'{step}: the identified {exc}; the records do not support '
+                                  'this identification') from None
+
+
 def identify(experiments: list[Experiment], base: ModelConfig | None = None,
              steps=STEPS, friction_method: str = 'least_squares',
              tc_time_constant_s: float | None = None, refine=None,
@@ -218,10 +230,18 @@ def identify(experiments: list[Experiment], base: ModelConfig | None = None,
         else:
             groups[kind].append(exp)
     result = Identification(cfg, skipped=skipped, friction_method=friction_method)
+    if tc_time_constant_s is not None and not (math.isfinite(tc_time_constant_s)
+                                                and tc_time_constant_s > 0):
+        raise ConfigError(f'thermocouple time constant {tc_time_constant_s!r} s: give a '
+                          'positive number of seconds')
     if 'flow' in steps and groups['flow']:
         result.flow = identify_flow_coefficient(groups['flow'], cfg)
-        for key, value in result.flow.values().items():
-            cfg.set(key, value)
+        bad = {v: c for v, c in result.flow.per_voltage().items() if not c > 0.0}
+        if bad:
+            raise ExperimentError(f'flow: the flow coefficient C1 comes out '
+                                  f'{min(bad.values()):.3g} at {min(bad):g} V; C1 is positive: '
+                                  'check the flow tables (m4, m5, supply) of those voltages')
+        _apply(cfg, result.flow.values(), 'flow')
         result.used['flow'] = [e.name for e in groups['flow']]
     if 'heat' in steps and groups['heat']:
         _heat(result, groups['heat'], cfg, tc_time_constant_s)
@@ -234,8 +254,7 @@ def identify(experiments: list[Experiment], base: ModelConfig | None = None,
         if fit.static_friction_n < fit.coulomb_friction_n:
             raise ExperimentError(f'friction: the {friction_method} estimate has F_s < F_c; '
                                   'the runs do not show the Stribeck dip')
-        for key, value in fit.values().items():
-            cfg.set(key, value)
+        _apply(cfg, fit.values(), 'friction')
         result.used['friction'] = [e.name for e in groups['friction']]
     for step in steps:
         if not groups[step] and step in steps and len(steps) < len(STEPS):
@@ -281,5 +300,5 @@ def _heat(result: Identification, exps, cfg: ModelConfig, tau) -> None:
     if 'wall_heat_transfer' not in cfg.components:
         raise ConfigError('the base model has no wall_heat_transfer component to take h; '
                           'use the paper thermal model')
-    cfg.set(H_KEY, result.heat_h)
+    _apply(cfg, {H_KEY: result.heat_h}, 'heat')
     result.used['heat'] = [e.name for e in exps]

@@ -14,6 +14,7 @@ from ..experiment import Experiment
 from .bag import read_bag, write_experiment_bag
 from .csv import read_static_csv, write_static_csv
 from .topics import TOPICS
+from .validate import check_physical
 
 __all__ = ['read_experiment', 'read_bag', 'read_static_csv', 'write_experiment_bag',
            'write_static_csv', 'write_experiment', 'TOPICS']
@@ -27,8 +28,11 @@ def read_experiment(path, **options) -> Experiment:
     """
     path = Path(path)
     if path.suffix.lower() == '.csv':
-        return read_static_csv(path, name=options.get('name'))
-    return read_bag(path, **options)
+        exp = read_static_csv(path, name=options.get('name'))
+    else:
+        exp = read_bag(path, **options)
+    check_physical(str(path), exp.signals, exp.metadata)
+    return exp
 
 
 def write_experiment(exp: Experiment, path, storage: str = 'sqlite3',

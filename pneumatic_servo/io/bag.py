@@ -20,10 +20,10 @@ from array import array
 from pathlib import Path
 
 import numpy as np
-import yaml
 
 from ..errors import ExperimentError
 from ..experiment import Experiment
+from ..files import load_yaml, regular_file
 from . import resample, validate
 from .topics import (
     CELSIUS_K,
@@ -95,9 +95,12 @@ def _storage_exceptions() -> tuple[type[Exception], ...]:
 
 
 def _bag_dir(path: Path) -> Path:
-    """The rosbag2 directory of ``path`` (a directory or a storage file in one)."""
+    """The rosbag2 directory of ``path`` (a directory or a storage file in one), its
+    metadata and storage files checked to be regular files (a FIFO would block)."""
     if not path.exists():
         raise ExperimentError(f'{path}: no such bag directory or CSV file')
+    if not path.is_dir():
+        regular_file(path, 'bag storage file', ExperimentError)
     if path.is_file():
         if path.suffix not in ('.db3', '.mcap'):
             raise ExperimentError(f'{path}: not a rosbag2 directory, .db3/.mcap file or CSV '
@@ -112,17 +115,36 @@ def _bag_dir(path: Path) -> Path:
             f'{path}: no metadata.yaml next to {files[0]}: the recording was not closed '
             f'(recorder killed?); rebuild it with `ros2 bag reindex {path}` after checking '
             'the storage file, then read again')
+    regular_file(path / 'metadata.yaml', 'bag metadata file', ExperimentError)
+    for storage in path.iterdir():
+        if storage.suffix in ('.db3', '.mcap'):
+            regular_file(storage, 'bag storage file', ExperimentError)
+    _unmerged_wal(path)
     return path
 
 
+def _unmerged_wal(bag: Path) -> None:
+    """Refuse a sqlite3 bag whose write-ahead log still holds data: the writer was not
+    closed, and reading the .db3 alone would silently give part of the recording."""
+    for wal in bag.glob('*.db3-wal'):
+        if wal.stat().st_size > 0:
+            raise ExperimentError(
+                f'{wal}: the recording was not closed and part of it is still in the '
+                f"write-ahead log; merge it with `sqlite3 {wal.with_suffix('')} "
+                "'PRAGMA wal_checkpoint(TRUNCATE);'` (or `ros2 bag reindex`), then read again")
+
+
 def _custom_data(bag: Path) -> dict[str, str]:
-    try:
-        meta = yaml.safe_load((bag / 'metadata.yaml').read_text())
-        info = meta['rosbag2_bagfile_information']
-    except (OSError, yaml.YAMLError, KeyError, TypeError) as exc:
-        raise ExperimentError(f'{bag}: metadata.yaml is unreadable or incomplete ({exc}); '
-                              f'rebuild it with `ros2 bag reindex {bag}`') from None
-    return {str(k): str(v) for k, v in (info.get('custom_data') or {}).items()}
+    meta = load_yaml(bag / 'metadata.yaml', 'bag metadata file', ExperimentError)
+    info = meta.get('rosbag2_bagfile_information') if isinstance(meta, dict) else None
+    if not isinstance(info, dict):
+        raise ExperimentError(f'{bag}: metadata.yaml has no rosbag2_bagfile_information; '
+                              f'rebuild it with `ros2 bag reindex {bag}`')
+    custom = info.get('custom_data') or {}
+    if not isinstance(custom, dict):
+        raise ExperimentError(f'{bag}: custom_data in metadata.yaml is a '
+                              f'{type(custom).__name__}, not a mapping of key: value; fix it')
+    return {str(k): str(v) for k, v in custom.items()}
 
 
 # ------------------------------------------------------------------------------ topics

@@ -20,6 +20,7 @@ import yaml
 
 from ..errors import ExperimentError
 from ..experiment import Experiment
+from ..files import load_yaml, read_text
 
 REQUIRED_COLUMNS = ('circuit', 'voltage_v', 'supply_pa')
 MEASURED_COLUMNS = ('p_a_pa', 'p_b_pa', 'm4_kg_s', 'm5_kg_s', 't_s_k')
@@ -28,6 +29,10 @@ STATIC_CIRCUITS = ('closed_port', 'flow', 'blocked')
 COLUMN_SIGNAL = {'voltage_v': 'command_v', 'supply_pa': 'supply_pa', 'p_a_pa': 'p_a_pa',
                  'p_b_pa': 'p_b_pa', 'm4_kg_s': 'm4_kg_s', 'm5_kg_s': 'm5_kg_s',
                  't_s_k': 't_s_k'}
+#: a static table holds one row per steady operating point: tens to hundreds; thousands of
+#: rows are a time series in the wrong format, and each row is a steady-state solve
+MAX_ROWS = 5000
+MAX_TABLE_BYTES = 4 * 1024 * 1024
 #: [Pa] an absolute pressure below this is surely a gauge reading or in the wrong unit
 _MIN_ABSOLUTE_PA = 2e4
 
@@ -78,11 +83,12 @@ def read_static_csv(path, name: str | None = None) -> Experiment:
     """Read a static CSV table into an Experiment with ``static=True`` (t = row index)."""
     path = Path(path)
     where = str(path)
-    try:
-        text = path.read_text()
-    except OSError as exc:
-        raise ExperimentError(f'{where}: cannot read ({exc.strerror})') from None
+    text = read_text(path, 'CSV table', ExperimentError, MAX_TABLE_BYTES)
     rows = list(csv.reader(line for line in text.splitlines() if line.strip()))
+    if len(rows) > MAX_ROWS + 1:
+        raise ExperimentError(f'{where}: {len(rows) - 1} rows; a static table holds one row '
+                              f'per steady operating point (at most {MAX_ROWS}); record a time '
+                              'series as a bag instead')
     if not rows:
         raise ExperimentError(f'{where}: empty file; a static table needs a header row and '
                               'one row per operating point')
@@ -116,12 +122,10 @@ def read_static_csv(path, name: str | None = None) -> Experiment:
     meta = {'source': where}
     side = sidecar(path)
     if side.exists():
-        try:
-            extra = yaml.safe_load(side.read_text()) or {}
-        except yaml.YAMLError:
-            raise ExperimentError(f'{side}: not valid YAML; fix or delete it') from None
-        if isinstance(extra, dict):
-            meta.update(extra)
+        extra = load_yaml(side, 'metadata file', ExperimentError) or {}
+        if not isinstance(extra, dict):
+            raise ExperimentError(f'{side}: expected a mapping of metadata; fix or delete it')
+        meta.update({str(k): v for k, v in extra.items()})
     meta['synthetic'] = bool(meta.get('synthetic', False))
     n = len(rows) - 1
     return Experiment(np.arange(n, dtype=float), signals, circuit, name or path.stem, True, meta)

@@ -59,6 +59,7 @@ SIGNAL_TOPIC = {sig: t.name for t in TOPICS.values() for sig in t.signals}
 INFRASTRUCTURE = frozenset({
     'diagnostics', 'rosout', 'parameter_events', 'tf', 'tf_static', 'clock',
     'robot_description', 'events/write_split', 'diagnostics_agg', 'joint_commands',
+    'joint_trajectory',
 })
 
 #: topics that must be present for a time series of each circuit: any one of each tuple

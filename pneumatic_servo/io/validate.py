@@ -86,3 +86,65 @@ def check_count(where: str, topic: str, expected: int, found: int) -> None:
             f'{where}: metadata lists {expected} messages on {topic} but the storage holds '
             f'{found}: the bag is truncated or was not closed; re-record it, or rebuild its '
             'index with `ros2 bag reindex` if a partial record is acceptable')
+
+
+# --------------------------------------------------------------------- physical ranges
+#: signal -> (lowest, highest) physically possible value [SI], and what it is
+PHYSICAL = {
+    'p_a_pa': (2e4, 3e6, 'chamber_a/pressure'),
+    'p_b_pa': (2e4, 3e6, 'chamber_b/pressure'),
+    'supply_pa': (1.1e5, 3e6, 'supply/pressure'),
+    'angle_rad': (-0.5, 7.0, 'joint_states position'),
+    'velocity_rad_s': (-200.0, 200.0, 'joint_states velocity'),
+    't_a_k': (150.0, 500.0, 'chamber_a/temperature'),
+    't_b_k': (150.0, 500.0, 'chamber_b/temperature'),
+    't_s_k': (150.0, 500.0, 'supply temperature'),
+    'command_v': (-1.0, 11.0, 'valve/command'),
+    'm4_kg_s': (0.0, 0.1, 'port-4 mass flow'),
+    'm5_kg_s': (0.0, 0.1, 'port-5 mass flow'),
+    'setpoint_rad': (-0.5, 7.0, 'setpoint'),
+}
+
+
+def _likely_cause(sig: str, lo: float, hi: float) -> str:
+    """What a reading outside the physical range most likely is, from its range of values."""
+    if sig.endswith('_pa'):
+        if hi < 2e4 and lo > 10.0:
+            return 'looks like kPa; the contract is absolute Pa'
+        if hi < 50.0:
+            return 'looks like MPa or bar; the contract is absolute Pa'
+        if lo < 2e4 and hi < 1.3e6:
+            return 'looks like gauge pressure; the contract is absolute Pa (add 101325)'
+        return 'no rig reaches that; check the transmitter scaling'
+    if sig in ('angle_rad', 'setpoint_rad') and 7.0 < hi <= 400.0:
+        return 'looks like degrees; the contract is rad'
+    if sig.endswith('_k') and hi < 150.0:
+        return 'looks like degrees Celsius; the signal is in K'
+    if sig.startswith('m') and lo < 0.0:
+        return 'a flow out of the port cannot be negative; check the meter\'s sign'
+    if sig == 'command_v':
+        return 'the valve takes 0-10 V; record the command after the output gate'
+    return 'check the sensor scaling'
+
+
+def check_physical(where: str, signals: dict, metadata: dict | None = None) -> None:
+    """Raise if a signal (or the held angle of a blocked record) is outside what a rig can
+    show, naming the likely cause (a unit, gauge instead of absolute pressure)."""
+    for sig, (low, high, what) in PHYSICAL.items():
+        values = signals.get(sig)
+        if values is None or not len(values):
+            continue
+        lo, hi = float(np.min(values)), float(np.max(values))
+        if lo < low or hi > high:
+            raise ExperimentError(
+                f'{where}: {what} is {lo:.4g} to {hi:.4g} ({sig}), outside the possible '
+                f'{low:g} to {high:g}: {_likely_cause(sig, lo, hi)}')
+    held = (metadata or {}).get('blocked_angle_rad')
+    if held is not None:
+        try:
+            ok = 0.0 <= float(held) <= 6.5
+        except (TypeError, ValueError):
+            ok = False
+        if not ok:
+            raise ExperimentError(f'{where}: blocked_angle_rad = {held!r} in the custom data; '
+                                  'give the angle the pistons are held at, 0 to 6.5 rad')

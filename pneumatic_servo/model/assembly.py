@@ -10,6 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .. import _jit
 from .._jit import njit
 from ..effects.base import STAGES, Component
 from ..effects.layout import CORE_PARAMS, CORE_STATE_ABS_TOL, CORE_STATE_NAMES, N_CORE_STATES
@@ -61,7 +62,19 @@ def _make_rhs(stages):
         mechanics(t, x, P, c, dx)
         finish(t, x, P, c, dx)
         core_end(t, x, P, circuit, c, dx)
-    return rhs
+    return rhs if _jit.ENABLED else _nan_on_math_error(rhs)
+
+
+def _nan_on_math_error(rhs):
+    """Plain Python raises where compiled code yields NaN (the square root of a negative
+    temperature in a wild trial step): make it NaN too, so the integrator reports a failed
+    simulation instead of the process dying."""
+    def safe(t, x, u, ps, P, circuit, c, dx):
+        try:
+            rhs(t, x, u, ps, P, circuit, c, dx)
+        except (ValueError, ZeroDivisionError, OverflowError):
+            dx[:] = np.nan
+    return safe
 
 
 @dataclass(frozen=True)

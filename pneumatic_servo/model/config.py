@@ -25,6 +25,7 @@ from .. import effects as registry
 from ..effects.base import Component, Param
 from ..effects.layout import CORE_PARAMS
 from ..errors import ConfigError
+from ..files import load_yaml
 from .units import to_si, unit_hint
 
 SLOTS = ('orifice', 'clearance', 'thermal', 'friction')
@@ -53,6 +54,14 @@ def _check_values(owner: str, params: tuple[Param, ...], given: dict, atmospheri
     return out
 
 
+def _name(key, section: str) -> str:
+    """A component name from a config key; ConfigError if it is not a string."""
+    if not isinstance(key, str):
+        raise ConfigError(f'{section}: {key!r} is not a component name; write the name as text '
+                          "(e.g. external_leakage, or 'package.module:Class')")
+    return key
+
+
 @dataclass
 class ModelConfig:
     """A complete model: slot choices, added effects and all parameter values (SI)."""
@@ -78,8 +87,8 @@ class ModelConfig:
             raise ConfigError('model config must be a mapping with core, components, effects')
         unknown = set(data) - {'core', 'components', 'effects', 'metadata'}
         if unknown:
-            raise ConfigError(f'unknown top-level key(s) {sorted(unknown)} in model config; '
-                              'use core, components, effects')
+            raise ConfigError(f'unknown top-level key(s) {sorted(map(str, unknown))} in model '
+                              'config; use core, components, effects')
         core_given = data.get('core') or {}
         pe_raw = core_given.get('atmospheric_pressure_pa', 101325.0) \
             if isinstance(core_given, dict) else 101325.0
@@ -91,7 +100,7 @@ class ModelConfig:
             raise ConfigError('components: expected a mapping of component name: parameters')
         chosen = dict(registry.PAPER_DEFAULTS)
         for name in given_comps:
-            cls_ = registry.get(name)
+            cls_ = registry.get(_name(name, 'components'))
             if cls_.slot is None:
                 raise ConfigError(f'{name!r} is an effect, not a slot component; list it under '
                                   'effects:')
@@ -107,11 +116,12 @@ class ModelConfig:
         if not isinstance(given_effects, dict):
             raise ConfigError('effects: expected a mapping of effect name: parameters')
         for name, values in given_effects.items():
-            cls_ = registry.get(name)
+            cls_ = registry.get(_name(name, 'effects'))
             if cls_.slot is not None:
                 raise ConfigError(f'{name!r} fills the {cls_.slot} slot; list it under '
                                   'components:')
-            effs[name] = _check_values(name, cls_.params, values, pe)
+            # keyed by the class's own name ("module:Class" is kept on the class, for saving)
+            effs[cls_.name] = _check_values(cls_.name, cls_.params, values, pe)
         cfg = cls(core=core, components=comps, effects=effs)
         cfg.validate()
         return cfg
@@ -120,16 +130,7 @@ class ModelConfig:
     def load(cls, path) -> 'ModelConfig':
         """Read a YAML config file; errors name the file and the fix."""
         path = Path(path)
-        try:
-            text = path.read_text()
-        except OSError as exc:
-            raise ConfigError(f'cannot read config {path}: {exc.strerror}') from None
-        try:
-            data = yaml.safe_load(text)
-        except yaml.YAMLError as exc:
-            mark = getattr(exc, 'problem_mark', None)
-            where = f' line {mark.line + 1}' if mark else ''
-            raise ConfigError(f'{path}{where}: not valid YAML') from None
+        data = load_yaml(path, 'model config')
         try:
             return cls.from_dict(data)
         except ConfigError as exc:
@@ -208,11 +209,17 @@ class ModelConfig:
         return values[name]
 
     def set(self, key: str, value: float) -> None:
+        """Set parameter ``owner.name`` to ``value`` [SI], within its declared bounds."""
         owner, _, name = key.partition('.')
         values = self.values_of(owner)
         if values is None or name not in values:
             raise ConfigError(f'no parameter {key!r} in this model')
-        values[name] = float(value)
+        value = float(value)
+        p = self.param(key)
+        if not (math.isfinite(value) and p.lower <= value <= p.upper):
+            raise ConfigError(f'{key} = {value:.6g} {p.unit} is outside its bounds '
+                              f'[{p.lower:g}, {p.upper:g}] {p.unit}')
+        values[name] = value
 
     def param(self, key: str) -> Param:
         """The declaration (unit, bounds) of parameter ``owner.name``."""

@@ -12,9 +12,8 @@ from dataclasses import dataclass, field, fields
 from pathlib import Path
 from typing import Optional
 
-import yaml
-
 from ..errors import ConfigError
+from ..files import load_yaml
 
 
 @dataclass(frozen=True)
@@ -171,12 +170,7 @@ class RigConfig:
     @classmethod
     def load(cls, path) -> 'RigConfig':
         path = Path(path)
-        try:
-            data = yaml.safe_load(path.read_text())
-        except OSError as exc:
-            raise ConfigError(f'cannot read rig config {path}: {exc.strerror}') from None
-        except yaml.YAMLError:
-            raise ConfigError(f'{path}: not valid YAML') from None
+        data = load_yaml(path, 'rig config')
         if data is not None and not isinstance(data, dict):
             raise ConfigError(f'{path}: expected a mapping of rig settings')
         return cls.from_dict(data, str(path))

@@ -14,8 +14,17 @@ import math
 from dataclasses import dataclass
 from pathlib import Path
 
+import numpy as np
+
 from ..control.measurement import Measurement
 from ..errors import ConfigError, ExperimentError
+from ..io import read_experiment
+from ..io.topics import CELSIUS_K, SIGNAL_TOPIC
+
+JOINT_STATES = SIGNAL_TOPIC['angle_rad']
+PRESSURE_A, PRESSURE_B, PRESSURE_SUPPLY = (SIGNAL_TOPIC[s] for s in ('p_a_pa', 'p_b_pa',
+                                                                    'supply_pa'))
+TEMPERATURE_A, TEMPERATURE_B = SIGNAL_TOPIC['t_a_k'], SIGNAL_TOPIC['t_b_k']
 
 
 class Backend:
@@ -23,6 +32,8 @@ class Backend:
 
     kind = ''
     description = ''
+    #: a stable identifier of the hardware for /diagnostics (the description is free text)
+    hardware_id = ''
     period_s = 1e-3
 
     def start(self) -> Measurement:
@@ -80,6 +91,7 @@ class SimBackend(Backend):
         self._k = torque_of(model_config)
         effects = ', '.join(model_config.effects) or 'none'
         self.description = f'simulated plant (model effects: {effects})'
+        self.hardware_id = 'sim'
         self.t = 0.0
 
     def _measure(self, x) -> Measurement:
@@ -110,6 +122,7 @@ class RigBackend(Backend):
         self.io = RigIO(rig_config, driver, self.period_s)
         self._k = torque_of(model_config) if model_config is not None else math.nan
         self.description = driver.description
+        self.hardware_id = f'{daq}:{rig_config.device}'
         self.t = 0.0
 
     def _read(self) -> Measurement:
@@ -148,66 +161,35 @@ class ReplayEvent:
     effort: float = math.nan
 
 
-REPLAY_TOPICS = ('joint_states', 'chamber_a/pressure', 'chamber_b/pressure', 'supply/pressure',
-                 'chamber_a/temperature', 'chamber_b/temperature')
-
-
-def _relative(topic: str) -> str:
-    """The interface name a bag topic ends with ('/robot/joint_states' -> 'joint_states')."""
-    for name in REPLAY_TOPICS:
-        if topic == name or topic.endswith('/' + name):
-            return name
-    return ''
+#: replayed measurement signals -> (topic, field); joint_states carries three
+REPLAYED = {'p_a_pa': PRESSURE_A, 'p_b_pa': PRESSURE_B, 'supply_pa': PRESSURE_SUPPLY,
+            't_a_k': TEMPERATURE_A, 't_b_k': TEMPERATURE_B}
 
 
 def read_replay_events(path, joint_name: str) -> list[ReplayEvent]:
-    """The measurements of a rosbag2 (sqlite3 or MCAP), in time order.
+    """The measurements of a rosbag2 (sqlite3 or MCAP), in time order, read and validated by
+    :func:`pneumatic_servo.io.read_experiment` (the package's one bag reader) on its grid.
 
-    Times are the messages' ``header.stamp`` (the measurement time), or the
-    record time when a stamp is zero. Raises ExperimentError with the fix.
+    Times are the record's measurement times; temperatures go out in degC, as
+    ``sensor_msgs/Temperature`` carries them. Raises ExperimentError with the fix.
     """
-    from rosbags.highlevel import AnyReader
-    from rosbags.typesys import Stores, get_typestore
-    path = Path(path)
-    if not path.exists():
-        raise ExperimentError(f'bag {path} does not exist; give the bag directory with bag:=PATH')
-    store = get_typestore(Stores.ROS2_JAZZY)
-    events: list[ReplayEvent] = []
-    try:
-        with AnyReader([path], default_typestore=store) as reader:
-            conns = [c for c in reader.connections if _relative(c.topic)]
-            if not any(_relative(c.topic) == 'joint_states' for c in conns):
-                raise ExperimentError(f'bag {path} has no joint_states topic; record '
-                                      f'{", ".join(REPLAY_TOPICS)}')
-            for conn, t_rec, raw in reader.messages(connections=conns):
-                msg = reader.deserialize(raw, conn.msgtype)
-                topic = _relative(conn.topic)
-                t_ns = msg.header.stamp.sec * 1_000_000_000 + msg.header.stamp.nanosec or t_rec
-                if topic == 'joint_states':
-                    names = list(msg.name)
-                    if joint_name in names:
-                        i = names.index(joint_name)
-                    elif len(msg.position) == 1:
-                        i = 0
-                    else:
-                        continue
-                    vel = msg.velocity[i] if len(msg.velocity) > i else math.nan
-                    eff = msg.effort[i] if len(msg.effort) > i else math.nan
-                    events.append(ReplayEvent(t_ns, topic, float(msg.position[i]), float(vel),
-                                              float(eff)))
-                elif topic.endswith('pressure'):
-                    events.append(ReplayEvent(t_ns, topic, float(msg.fluid_pressure)))
-                else:
-                    events.append(ReplayEvent(t_ns, topic, float(msg.temperature)))
-    except ExperimentError:
-        raise
-    except Exception as exc:  # rosbags raises its own types for unreadable bags
-        raise ExperimentError(f'cannot read bag {path}: {exc}'.splitlines()[0]) from None
-    if not events:
-        raise ExperimentError(f'bag {path} has no measurements of joint {joint_name!r}')
-    # stable sort: messages of one sample keep their recorded order (joint_states last)
-    order = {t: i for i, t in enumerate(REPLAY_TOPICS[1:] + REPLAY_TOPICS[:1])}
-    events.sort(key=lambda e: (e.t_ns, order[e.topic]))
+    exp = read_experiment(path, joint=joint_name)
+    if 'angle_rad' not in exp.signals:
+        raise ExperimentError(f'bag {path} has no joint_states of joint {joint_name!r}; record '
+                              'joint_states (and the pressures) to replay it')
+    t0 = int(exp.metadata.get('start_time_ns', 0))
+    stamps = t0 + np.round(exp.t * 1e9).astype(np.int64)
+    sig = exp.signals
+    nan = np.full(len(exp.t), math.nan)
+    velocity, effort = sig.get('velocity_rad_s', nan), sig.get('effort_n_m', nan)
+    present = [(s, topic) for s, topic in REPLAYED.items() if s in sig]
+    events = []
+    for k, t_ns in enumerate(stamps.tolist()):
+        for s, topic in present:  # the scalars first: joint_states triggers the controller
+            value = sig[s][k] - (CELSIUS_K if s.startswith('t_') else 0.0)
+            events.append(ReplayEvent(t_ns, topic, float(value)))
+        events.append(ReplayEvent(t_ns, JOINT_STATES, float(sig['angle_rad'][k]),
+                                  float(velocity[k]), float(effort[k])))
     return events
 
 
@@ -223,6 +205,7 @@ class ReplaySource:
         self.events = read_replay_events(path, joint_name)
         self.rate, self.loop = float(rate), bool(loop)
         self.description = f'replay of {self.path.name} ({len(self.events)} measurements)'
+        self.hardware_id = f'replay:{self.path.name}'
         self.t0_ns = self.events[0].t_ns
         self.duration_ns = self.events[-1].t_ns - self.t0_ns
         self.index = 0

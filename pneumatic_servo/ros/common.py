@@ -25,16 +25,18 @@ from sensor_msgs.msg import JointState
 from ..control.measurement import Measurement
 from ..control.params import SpecSet
 from ..errors import ConfigError
+from ..io.topics import CELSIUS_K, SIGNAL_TOPIC, TOPICS
 from . import cdr
 
 # ----------------------------------------------------------------------------- topics
-#: relative names (INTERFACES.md), so a namespace or remap moves them
-COMMAND = 'valve/command'
-JOINT_STATES = 'joint_states'
-PRESSURE_A, PRESSURE_B, PRESSURE_SUPPLY = ('chamber_a/pressure', 'chamber_b/pressure',
-                                           'supply/pressure')
-TEMPERATURE_A, TEMPERATURE_B = 'chamber_a/temperature', 'chamber_b/temperature'
-SETPOINT = 'setpoint'
+#: relative names (INTERFACES.md), so a namespace or remap moves them; declared once, in
+#: pneumatic_servo.io.topics
+COMMAND = SIGNAL_TOPIC['command_v']
+JOINT_STATES = SIGNAL_TOPIC['angle_rad']
+PRESSURE_A, PRESSURE_B, PRESSURE_SUPPLY = (SIGNAL_TOPIC[s] for s in ('p_a_pa', 'p_b_pa',
+                                                                    'supply_pa'))
+TEMPERATURE_A, TEMPERATURE_B = SIGNAL_TOPIC['t_a_k'], SIGNAL_TOPIC['t_b_k']
+SETPOINT = SIGNAL_TOPIC['setpoint_rad']
 #: extension: trajectory_msgs/JointTrajectory for the controller
 TRAJECTORY = 'joint_trajectory'
 DIAGNOSTICS = '/diagnostics'
@@ -44,17 +46,8 @@ CLOCK = '/clock'
 MEASUREMENT_TOPICS = (PRESSURE_A, PRESSURE_B, PRESSURE_SUPPLY, TEMPERATURE_A, TEMPERATURE_B,
                       JOINT_STATES)
 #: topic -> message type name, for the recorder and the graph checks
-TOPIC_TYPES = {
-    JOINT_STATES: 'sensor_msgs/msg/JointState',
-    PRESSURE_A: 'sensor_msgs/msg/FluidPressure',
-    PRESSURE_B: 'sensor_msgs/msg/FluidPressure',
-    PRESSURE_SUPPLY: 'sensor_msgs/msg/FluidPressure',
-    TEMPERATURE_A: 'sensor_msgs/msg/Temperature',
-    TEMPERATURE_B: 'sensor_msgs/msg/Temperature',
-    COMMAND: 'std_msgs/msg/Float64',
-    SETPOINT: 'std_msgs/msg/Float64',
-}
-CELSIUS_K = 273.15
+TOPIC_TYPES = {**{name: topic.msgtype for name, topic in TOPICS.items()},
+               TRAJECTORY: 'trajectory_msgs/msg/JointTrajectory'}
 
 # -------------------------------------------------------------------------------- QoS
 #: measurements: best effort, keep last 5 (a late sample is worthless)
@@ -164,8 +157,10 @@ def declare(node, specs: SpecSet, overrides: dict | None = None) -> dict:
     return values
 
 
-def validate_update(specs: SpecSet, current: dict, params) -> SetParametersResult:
-    """Run-time check of a set-parameters request against ``specs`` and the cross checks."""
+def validate_update(specs: SpecSet, current: dict, params, active: bool = False
+                    ) -> SetParametersResult:
+    """Run-time check of a set-parameters request against ``specs`` and the cross checks;
+    while ``active``, safety parameters are refused too."""
     proposed = dict(current)
     for p in params:
         spec = specs.specs.get(p.name)
@@ -175,6 +170,11 @@ def validate_update(specs: SpecSet, current: dict, params) -> SetParametersResul
             return SetParametersResult(successful=False,
                                        reason=f'{p.name} is read-only; restart the node to '
                                               'change it')
+        if spec.safety and active:
+            return SetParametersResult(successful=False,
+                                       reason=f'{p.name} is a safety parameter and cannot '
+                                              'change while the node is active; deactivate '
+                                              'it first')
         try:
             proposed[p.name] = spec.coerce(p.value)
         except ConfigError as exc:

@@ -11,8 +11,12 @@ chamber pressures).
 Time is the measurements' ``header.stamp``: the same law runs in lockstep sim
 time, in real time and on a replayed bag. A sample whose stamp is not newer
 than the last one handled is ignored, so a measurement sent twice (lockstep
-resend) is answered once. Until a setpoint or a trajectory arrives the
-controller holds the first measured angle (or ``initial_setpoint_rad``).
+resend) is answered once; a stamp more than ``restart_jump_s`` older starts the
+law afresh (the plant restarted its clock). A stamp further than
+``max_stamp_skew_s`` from the node's clock (sim time with ``use_sim_time``) is
+rejected and reported: one bad stamp never decides which samples count. Until a
+setpoint or a trajectory arrives the controller holds the first measured angle (or
+``initial_setpoint_rad``).
 """
 from __future__ import annotations
 
@@ -30,7 +34,7 @@ from ..control.params import Spec, SpecSet
 from ..control.pid import PID_SPECS, PidController
 from ..control.reference import Reference, Trajectory, TrajectoryPoint
 from ..errors import ConfigError
-from . import cdr, common
+from . import cdr, common, private
 from .common import COMMAND_QOS, SENSOR_QOS
 
 monotonic = time.monotonic
@@ -51,6 +55,11 @@ NODE_SPECS = [
          'measured angle)', 'rad', 0.0, 6.5, read_only=True, allow_nan=True),
     Spec('input_timeout_s', 0.5, 'measurements older than this are reported stale', 's', 0.001,
          60.0),
+    Spec('max_stamp_skew_s', 10.0, "samples stamped further than this from the node's clock "
+         'are rejected and reported (0 = no check, for a replay of old data without sim time)',
+         's', 0.0, 1e6),
+    Spec('restart_jump_s', 1.0, 'a sample this much older than the last one restarts the '
+         'law (the plant restarted its clock)', 's', 0.001, 1e6),
     Spec('diagnostics_period_s', 0.5, 'period of /diagnostics', 's', 0.01, 10.0),
 ]
 _seen = set()
@@ -80,6 +89,8 @@ class ControllerNode(Node):
         self.trajectory = None
         self.commands = 0
         self.fallbacks = 0
+        self.rejected = 0
+        self.restarts = 0
         self.last_u = math.nan
         self._last_input = -math.inf
         self.pub = self.create_publisher(Float64, common.COMMAND, COMMAND_QOS)
@@ -99,7 +110,7 @@ class ControllerNode(Node):
             subs.append(self.create_subscription(kind, topic, self._scalar_cb(field, offset),
                                                  SENSOR_QOS, raw=True))
         # with use_sim_time the clock subscription is hot too: it changes every period
-        clock_sub = getattr(getattr(self, '_time_source', None), '_clock_sub', None)
+        clock_sub = private.clock_subscription(self)
         self.hot_subscriptions = subs + ([clock_sub] if clock_sub is not None else [])
         self.create_subscription(Float64, common.SETPOINT, self._on_setpoint, COMMAND_QOS)
         self.create_subscription(JointTrajectory, common.TRAJECTORY, self._on_trajectory,
@@ -196,8 +207,12 @@ class ControllerNode(Node):
         if got is None:
             return
         stamp, position, velocity, effort = got
+        if not self._stamp_ok(stamp):
+            return
         if stamp <= self._last_done:
-            return  # a resent or out-of-order sample: answered already
+            if self._last_done - stamp <= self.p['restart_jump_s'] * 1e9:
+                return  # a resent or out-of-order sample: answered already
+            self._restart()
         if self._pending is not None and self._pending[0] < stamp:
             self._compute()  # the pressures of the older sample never came: use the latest
         m = self.m
@@ -208,6 +223,30 @@ class ControllerNode(Node):
         self._pending = (stamp,)
         self._last_input = monotonic()
         self._try_compute()
+
+    def _stamp_ok(self, stamp: int) -> bool:
+        """False (and counted, and reported) for a stamp far from the node's clock."""
+        skew = self.p['max_stamp_skew_s']
+        now = self.get_clock().now().nanoseconds
+        if skew <= 0.0 or now <= 0 or abs(stamp - now) <= skew * 1e9:
+            return True
+        self.rejected += 1
+        if self.rejected == 1 or self.rejected % 1000 == 0:
+            self.get_logger().warn(f'rejected a sample stamped {(stamp - now) * 1e-9:+.3g} s '
+                                   f'from the clock ({self.rejected} so far); check the '
+                                   'sender\'s clock')
+        return False
+
+    def _restart(self) -> None:
+        """The plant's clock went back (a restart, a replay loop): start the law afresh."""
+        self.restarts += 1
+        self._last_done = -1
+        self._pending = None
+        self.pid.reset()
+        if self.smc is not None:
+            self.smc.reset()
+        self.trajectory = None
+        self.get_logger().info('measurement time went back: control law restarted')
 
     def _try_compute(self) -> None:
         """Compute once the sample is complete: the laws that use the chamber pressures
@@ -260,6 +299,10 @@ class ControllerNode(Node):
         if self.fallbacks:
             level = 'warn' if level == 'ok' else level
             message += f'; smc fell back to pid {self.fallbacks} times (no pressures)'
+        if self.rejected:
+            level = 'warn' if level == 'ok' else level
+            message += (f'; rejected {self.rejected} samples stamped more than '
+                        f'{self.p["max_stamp_skew_s"]:g} s from the clock')
         if extra:
             message = f'{extra}; {message}'
         ref = self.ref.position if self.ref is not None else math.nan
@@ -268,7 +311,8 @@ class ControllerNode(Node):
                   'angle_rad': self.m.angle_rad,
                   'error_rad': ref - self.m.angle_rad,
                   'trajectory': 'active' if self.trajectory is not None else 'none',
-                  'input_age_ms': age * 1e3}
+                  'input_age_ms': age * 1e3, 'rejected_stamps': self.rejected,
+                  'restarts': self.restarts}
         self.diag_pub.publish(common.diagnostic_array(
             self.get_clock().now().nanoseconds, f'{self.get_name()}: controller', self.joint,
             level, message, values))

@@ -18,8 +18,12 @@ A node taking part implements::
     tick(now) -> None                # do whatever is due at ``now`` [s, monotonic]
     shutdown(reason) -> None         # drive outputs safe; last diagnostics
 
-SIGINT and SIGTERM end the loop; then every node's ``shutdown`` runs (the
-plant writes the safe valve voltage and says so on /diagnostics).
+Every catchable signal that would end the process (:data:`STOP_SIGNALS`: SIGINT,
+SIGTERM, SIGHUP, SIGQUIT, SIGUSR1/2, SIGALRM, SIGVTALRM, SIGPROF, SIGXCPU, SIGXFSZ)
+ends the loop instead; then every node's ``shutdown`` runs (the plant writes the
+safe valve voltage and says so on /diagnostics). SIGKILL cannot be caught: the
+plant's watchdog covers a killed controller, and a child process is killed with
+its parent (``PR_SET_PDEATHSIG``, see :mod:`.run`).
 """
 from __future__ import annotations
 
@@ -29,7 +33,8 @@ import threading
 import time
 
 from rclpy.executors import SingleThreadedExecutor
-from rclpy.impl.implementation_singleton import rclpy_implementation as _rclpy
+
+from . import private
 
 monotonic = time.monotonic
 
@@ -48,16 +53,22 @@ class _Stop:
 
 
 STOP = _Stop()
+#: the catchable signals whose default action ends the process (SIGPIPE stays ignored, as
+#: Python sets it: a closed pipe is an error on the write, not a stop)
+STOP_SIGNALS = tuple(getattr(signal, name) for name in (
+    'SIGINT', 'SIGTERM', 'SIGHUP', 'SIGQUIT', 'SIGUSR1', 'SIGUSR2', 'SIGALRM', 'SIGVTALRM',
+    'SIGPROF', 'SIGXCPU', 'SIGXFSZ') if hasattr(signal, name))
 
 
 def install_stop_handlers(listener=None) -> None:
-    """SIGINT/SIGTERM record a stop request instead of killing the process, from the very
-    start (a signal while a model compiles must still end with the valve safe)."""
+    """Every signal of :data:`STOP_SIGNALS` records a stop request instead of killing the
+    process, from the very start (a signal while a model compiles must still end with the
+    valve safe)."""
     if threading.current_thread() is not threading.main_thread():
         return
     STOP.listener = listener
-    signal.signal(signal.SIGINT, STOP)
-    signal.signal(signal.SIGTERM, STOP)
+    for sig in STOP_SIGNALS:
+        signal.signal(sig, STOP)
 
 
 class FastWaiter:
@@ -65,7 +76,7 @@ class FastWaiter:
 
     def __init__(self, context, subscriptions):
         self.subs = [s for s in subscriptions if s is not None]
-        self._ws = _rclpy.WaitSet(max(len(self.subs), 1), 0, 0, 0, 0, 0, context.handle)
+        self._ws = private.wait_set(context, len(self.subs))
 
     def wait(self, timeout_s: float) -> int:
         """Wait up to ``timeout_s`` [s]; dispatch everything ready; returns the count."""
@@ -73,21 +84,16 @@ class FastWaiter:
             if timeout_s > 0:
                 time.sleep(timeout_s)
             return 0
-        ws = self._ws
-        ws.clear_entities()
-        for s in self.subs:
-            ws.add_subscription(s.handle)
-        ws.wait(max(int(timeout_s * 1e9), 0))
-        ready = ws.get_ready_entities('subscription')
+        ready = private.wait(self._ws, self.subs, timeout_s * 1e9)
         n = 0
         if ready:
             for s in self.subs:
                 # one message per subscription and turn: a queue left over makes the next
                 # wait return at once, and saves the empty take that ends a drain loop
-                if s.handle.pointer in ready:
-                    got = s.handle.take_message(s.msg_type, s.raw)
-                    if got is not None:
-                        s.callback(got[0])
+                if private.is_ready(s, ready):
+                    msg = private.take(s)
+                    if msg is not None:
+                        s.callback(msg)
                         n += 1
         return n
 
@@ -123,7 +129,7 @@ class EventLoop:
             self.stop_reason = reason
 
     def install_signal_handlers(self) -> None:
-        """SIGINT/SIGTERM stop the loop (then the nodes shut down safely)."""
+        """The stop signals end the loop (then the nodes shut down safely)."""
         install_stop_handlers(self.stop)
         if STOP.reason:  # a signal arrived while the nodes were being built
             self.stop(STOP.reason)

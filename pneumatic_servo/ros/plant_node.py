@@ -32,7 +32,7 @@ from rosgraph_msgs.msg import Clock
 from sensor_msgs.msg import FluidPressure, JointState, Temperature
 from std_msgs.msg import Float64
 
-from ..control.gate import OutputGate
+from ..control.gate import MAX_V, MIN_V, SAFE_V, WATCHDOG_S, OutputGate
 from ..control.params import Spec, SpecSet
 from ..errors import ConfigError, PneumaticServoError
 from . import cdr, common
@@ -44,6 +44,8 @@ CLOCK_MODES = ('free', 'lockstep')
 
 
 def _cross(v: dict):
+    if not (v.get('min_v', MIN_V) <= v.get('safe_v', SAFE_V) <= v.get('max_v', MAX_V)):
+        return 'need min_v <= safe_v <= max_v (the safe voltage inside the clamp range)'
     if v.get('clock_mode') == 'lockstep' and v.get('backend', 'sim') != 'sim':
         return ('clock_mode lockstep needs backend sim (a rig runs in real time, a replay in '
                 "the bag's time); use clock_mode:=free")
@@ -76,8 +78,14 @@ PLANT_SPECS = SpecSet([
     Spec('replay_loop', False, 'replay: start again at the end', read_only=True),
     Spec('replay_clock', False, "replay: also publish the bag's time on /clock (for a stack "
          'with use_sim_time; adds /clock to the graph)', read_only=True),
-    Spec('watchdog_s', 0.1, 'valve goes safe (latched fault) after this long without a '
-         'command', 's', 0.001, 10.0),
+    Spec('watchdog_s', WATCHDOG_S, 'valve goes safe (latched fault) after this long without '
+         'a new command; fixed while active', 's', 0.001, 10.0, safety=True),
+    Spec('safe_v', SAFE_V, 'valve voltage while inactive, faulted or shutting down (the '
+         'centre); fixed while active', 'V', MIN_V, MAX_V, safety=True),
+    Spec('min_v', MIN_V, 'lowest valve voltage commanded (clamp); fixed while active', 'V',
+         MIN_V, MAX_V, safety=True),
+    Spec('max_v', MAX_V, 'highest valve voltage commanded (clamp); fixed while active', 'V',
+         MIN_V, MAX_V, safety=True),
     Spec('lockstep_resend_s', 0.02, 'lockstep: resend the last measurement if unanswered '
          'this long (wall time)', 's', 0.001, 1.0),
     Spec('wait_subscribers', 0, 'lockstep and replay: start when joint_states has this many '
@@ -101,7 +109,8 @@ class PlantNode(LifecycleNode):
         self.add_on_set_parameters_callback(self._on_set_parameters)
         self.period_s = 1.0 / self.p['rate_hz']
         self.period_ns = int(round(self.period_s * 1e9))
-        self.gate = OutputGate(watchdog_s=self.p['watchdog_s'])
+        self.gate = OutputGate(self.p['watchdog_s'], self.p['safe_v'], self.p['min_v'],
+                               self.p['max_v'])
         self.gate.hold('not active')
         self.backend = None
         self.replay = None
@@ -129,16 +138,24 @@ class PlantNode(LifecycleNode):
             ret = self.trigger_configure()
             if ret != TransitionCallbackReturn.SUCCESS:
                 raise ConfigError(self.halt_reason or 'plant: configure failed')
-            self.trigger_activate()
+            if self.trigger_activate() != TransitionCallbackReturn.SUCCESS:
+                reason = self.halt_reason or 'activation failed'
+                self.get_logger().error(f'activate failed: {reason}; valve held safe')
+                raise ConfigError(f'plant: {reason}')
 
     # -------------------------------------------------------------- parameters
     def _on_set_parameters(self, params):
-        result = common.validate_update(PLANT_SPECS, self.p, params)
+        result = common.validate_update(PLANT_SPECS, self.p, params,
+                                        active=self.state == 'active')
         if result.successful:
             for prm in params:
                 if prm.name in self.p:
                     self.p[prm.name] = PLANT_SPECS[prm.name].coerce(prm.value)
-            self.gate.watchdog_s = self.p['watchdog_s']
+            # safety values change only while inactive (validate_update refuses them else)
+            self.gate = OutputGate(self.p['watchdog_s'], self.p['safe_v'], self.p['min_v'],
+                                   self.p['max_v']) if self.state != 'active' else self.gate
+            if self.state != 'active':
+                self.gate.hold(self.state)
             if self.backend is not None and self.backend.kind == 'sim' \
                     and math.isfinite(self.p['supply_pa']):
                 self.backend.stepper.supply_pa = self.p['supply_pa']
@@ -150,9 +167,11 @@ class PlantNode(LifecycleNode):
     def on_configure(self, state: LifecycleState) -> TransitionCallbackReturn:
         try:
             self._build_backend()
-        except PneumaticServoError as exc:
-            self.halt_reason = str(exc)
-            self.get_logger().error(f'configure failed: {exc}')
+        except Exception as exc:  # noqa: BLE001 - whatever it is, the reason is logged
+            reason = str(exc) if isinstance(exc, PneumaticServoError) else \
+                f'{type(exc).__name__}: {exc}'
+            self.halt_reason = ' '.join(reason.split())
+            self.get_logger().error(f'configure failed: {self.halt_reason}')
             return TransitionCallbackReturn.FAILURE
         self.state = 'inactive'
         self.get_logger().info(f'configured: {self.description}')
@@ -388,10 +407,13 @@ class PlantNode(LifecycleNode):
             self._publish(self._m, now)
             return
         waited = now - self._sent_at
-        if self.gate.armed and waited > self.gate.watchdog_s:
-            self.gate.output(now)  # trips the watchdog: latched fault, safe output
-            self.get_logger().error('lockstep: the controller stopped answering; valve safe, '
-                                    'continuing in real time')
+        # the watchdog counts from the last *new* command: resending the measurement below
+        # does not feed it, so a dead controller trips it in lockstep as in real time
+        armed = self.gate.armed
+        self.gate.output(now)
+        if armed and self.gate.faulted:
+            self.get_logger().error('lockstep: no new command within the watchdog period; '
+                                    'valve safe, continuing in real time')
             self._paced = True
             self._next_step = now
             self._publish_diagnostics(now, force=True)
@@ -501,9 +523,11 @@ class PlantNode(LifecycleNode):
         stamp = getattr(self, '_stamp_ns', None) if self.lockstep else None
         if stamp is None:
             stamp = self.get_clock().now().nanoseconds
-        desc = getattr(self, 'description', self.p['backend'])
+        source = self.backend or self.replay
+        values['description'] = getattr(source, 'description', self.p['backend'])
+        hardware = getattr(source, 'hardware_id', '') or self.p['backend']
         self.diag_pub.publish(common.diagnostic_array(
-            stamp, f'{self.get_name()}: plant', desc, level, message, values))
+            stamp, f'{self.get_name()}: plant', hardware, level, message, values))
 
 
 def common_path(path: str):

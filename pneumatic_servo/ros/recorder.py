@@ -18,15 +18,24 @@ from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 
 from ..errors import ConfigError
-from . import common
+from . import common, private
 
 #: topics recorded by default (relative: a namespace moves them)
 DEFAULT_TOPICS = (common.JOINT_STATES, common.PRESSURE_A, common.PRESSURE_B,
                   common.PRESSURE_SUPPLY, common.TEMPERATURE_A, common.TEMPERATURE_B,
-                  common.COMMAND, common.SETPOINT)
+                  common.COMMAND, common.SETPOINT, common.TRAJECTORY)
 STORAGES = ('sqlite3', 'mcap')
-#: reliable topics (commands, setpoints); the rest are sensor data (best effort)
-RELIABLE = (common.COMMAND, common.SETPOINT)
+#: reliable topics (commands, targets); the rest are sensor data (best effort)
+RELIABLE = (common.COMMAND, common.SETPOINT, common.TRAJECTORY)
+
+
+def check_topics(topics) -> None:
+    """ConfigError unless every topic is one the recorder knows (checked before any file is
+    made, so a bad name leaves no half-written bag)."""
+    unknown = [t for t in topics if t not in common.TOPIC_TYPES]
+    if unknown or not topics:
+        raise ConfigError(f'cannot record {", ".join(map(repr, unknown)) or "no topics"}: known '
+                          f'topics are {", ".join(common.TOPIC_TYPES)}')
 
 
 def _typestore():
@@ -74,6 +83,7 @@ class RecorderNode(Node):
             raise ConfigError(f'{self.out} exists; record into a new directory')
         if not self.out.parent.exists():
             raise ConfigError(f'parent directory {self.out.parent} does not exist')
+        check_topics(topics)
         plugin = StoragePlugin.SQLITE3 if storage == 'sqlite3' else StoragePlugin.MCAP
         self.writer = Writer(self.out, version=9, storage_plugin=plugin)
         self.writer.set_custom_data('pneumatic_servo.circuit', 'servo')
@@ -86,12 +96,9 @@ class RecorderNode(Node):
         self.done = False
         # with use_sim_time the clock is hot and first: a message is stamped with the sim
         # time of the sample it belongs to, not with a clock updated a few periods late
-        clock_sub = getattr(getattr(self, '_time_source', None), '_clock_sub', None)
+        clock_sub = private.clock_subscription(self)
         self.hot_subscriptions = [clock_sub] if clock_sub is not None else []
         for topic in topics:
-            if topic not in common.TOPIC_TYPES:
-                raise ConfigError(f'cannot record {topic!r}: known topics are '
-                                  f'{", ".join(common.TOPIC_TYPES)}')
             msgtype = common.TOPIC_TYPES[topic]
             full = self.resolve_topic_name(topic)
             reliable = topic in RELIABLE

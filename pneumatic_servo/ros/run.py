@@ -91,6 +91,22 @@ def run_nodes(factories, duration_s: float = math.inf, ros_args=None, on_ready=N
         shutdown_ros()
 
 
+def _die_with_parent() -> None:
+    """In the child, before exec: ask Linux to send SIGTERM when the parent dies, even by
+    SIGKILL (prctl PR_SET_PDEATHSIG), so that no node outlives the process that started it."""
+    import ctypes
+    try:
+        libc = ctypes.CDLL('libc.so.6', use_errno=True)
+        libc.prctl(1, signal.SIGTERM, 0, 0, 0)  # 1 = PR_SET_PDEATHSIG
+    except OSError:  # not Linux: the parent still stops the child on every catchable exit
+        pass
+
+
+def start_child(cmd: list) -> subprocess.Popen:
+    """A child process that dies with its parent."""
+    return subprocess.Popen(cmd, preexec_fn=_die_with_parent)
+
+
 def controller_command(controller_overrides: dict, use_sim_time: bool, ros_args=None) -> list:
     """argv that runs the controller node alone in a new process."""
     cmd = [sys.executable, '-c',
@@ -124,7 +140,7 @@ def run_up(plant: dict, controller: dict, processes: int = 1, duration_s: float 
     if processes == 1:
         factories.append(lambda: make_controller(controller, use_sim_time))
     else:
-        child = subprocess.Popen(controller_command(controller, use_sim_time, ros_args))
+        child = start_child(controller_command(controller, use_sim_time, ros_args))
     try:
         reason = run_nodes(factories, duration_s, ros_args)
     finally:
@@ -134,11 +150,13 @@ def run_up(plant: dict, controller: dict, processes: int = 1, duration_s: float 
                 child.wait(timeout=5)
             except subprocess.TimeoutExpired:
                 child.kill()
-    return 0 if reason in ('time up', 'SIGINT', 'SIGTERM') else 1
+    return exit_code(reason)
 
 
 def exit_code(reason: str) -> int:
-    return 0 if reason in ('time up', 'SIGINT', 'SIGTERM') else 1
+    """0 for an orderly stop (time up, or a stop signal), 1 for a fault."""
+    from .loop import STOP_SIGNALS
+    return 0 if reason == 'time up' or reason in {s.name for s in STOP_SIGNALS} else 1
 
 
 def guard(fn, *args, **kwargs) -> int:
