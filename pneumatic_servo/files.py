@@ -29,7 +29,7 @@ def regular_file(path, what: str = 'file', error=PneumaticServoError) -> Path:
     try:
         mode = path.stat().st_mode
     except FileNotFoundError:
-        raise error(f'{path}: no such {what}') from None
+        raise error(f'cannot read {what} {path}: no such file; check the path') from None
     except OSError as exc:
         raise error(f'{path}: cannot read the {what} ({exc.strerror})') from None
     if stat.S_ISDIR(mode):

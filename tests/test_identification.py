@@ -37,7 +37,7 @@ def library():
     if not (BAGS / 'truth.yaml').exists():
         pytest.skip('bags/ not generated (pneumatic-servo generate bags/)')
     exps = {p.name if p.is_dir() else p.stem: read_experiment(p) for p in sorted(BAGS.iterdir())
-            if p.is_dir() or p.suffix == '.csv'}
+            if (p / 'metadata.yaml').exists() or p.suffix == '.csv'}
     return exps, ModelConfig.load(BAGS / 'truth.yaml')
 
 

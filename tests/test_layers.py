@@ -5,7 +5,7 @@ those inside functions, points to the importer's own package or a lower layer.
       -> {identification, analysis, control} -> {io, rig} -> {synth, fleet, testing, workflow}
       -> ros -> cli
 
-(``_jit``, ``errors``, ``files`` and ``__version__`` are below everything; ``experiment``, the data
+(``_jit``, ``errors`` and ``__version__`` are below everything, then ``files``; ``experiment``, the data
 type every layer above the model passes around, sits with the model.)
 """
 import ast
@@ -14,7 +14,8 @@ from pathlib import Path
 import pneumatic_servo
 
 LAYERS = (
-    ('', '_jit', 'errors', '__version__', 'files'),
+    ('', '_jit', 'errors', '__version__'),
+    ('files',),
     ('physics',),
     ('effects',),
     ('model', 'experiment'),

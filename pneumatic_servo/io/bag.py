@@ -582,6 +582,36 @@ def _messages(exp: Experiment, joint: str, start_ns: int, latency_ns: int):
     return topics
 
 
+#: rosbag2 metadata version written: what ROS 2 Jazzy's recorder writes (type hashes, QoS)
+BAG_VERSION = 9
+
+
+def offered_qos(reliable: bool):
+    """The QoS a topic's publisher offers, as rosbag2 writes it into the metadata: commands
+    and targets reliable (keep last 10), measurements best effort (keep last 5), as the
+    nodes publish them."""
+    from rosbags.interfaces import (
+        Qos,
+        QosDurability,
+        QosHistory,
+        QosLiveliness,
+        QosReliability,
+        QosTime,
+    )
+    return Qos(QosHistory.KEEP_LAST, 10 if reliable else 5,
+               QosReliability.RELIABLE if reliable else QosReliability.BEST_EFFORT,
+               QosDurability.VOLATILE, QosTime(0, 0), QosTime(0, 0), QosLiveliness.AUTOMATIC,
+               QosTime(0, 0), False)
+
+
+def add_topic(writer, topic: str, msgtype: str, store, reliable: bool):
+    """A connection as rosbag2 records it: the absolute topic name, the type with its
+    description hash, the offered QoS."""
+    name = topic if topic.startswith('/') else '/' + topic
+    return writer.add_connection(name, msgtype, typestore=store,
+                                 offered_qos_profiles=[offered_qos(reliable)])
+
+
 def write_experiment_bag(exp: Experiment, path, storage: str = 'sqlite3',
                          metadata: dict | None = None, *, joint: str = DEFAULT_JOINT,
                          start_time_ns: int | None = None,
@@ -627,7 +657,7 @@ def write_experiment_bag(exp: Experiment, path, storage: str = 'sqlite3',
     topics = _messages(exp, joint, start, int(round(latency_s * 1e9)))
     store = typestore()
     plugin = StoragePlugin.MCAP if storage == 'mcap' else StoragePlugin.SQLITE3
-    writer = Writer(path, version=8, storage_plugin=plugin)
+    writer = Writer(path, version=BAG_VERSION, storage_plugin=plugin)
     if compress and storage == 'mcap':
         writer.set_compression(CompressionMode.STORAGE, CompressionFormat.ZSTD)
     custom = {CIRCUIT_KEY: exp.circuit}
@@ -638,7 +668,7 @@ def write_experiment_bag(exp: Experiment, path, storage: str = 'sqlite3',
         writer.open()
         for key, value in custom.items():
             writer.set_custom_data(key, value)
-        conns = [(writer.add_connection(topic, msgtype, typestore=store), msgtype, make)
+        conns = [(add_topic(writer, topic, msgtype, store, TOPICS[topic].hold), msgtype, make)
                  for topic, msgtype, make in topics]
         ser = store.serialize_cdr
         for k in range(len(exp.t)):
@@ -665,7 +695,7 @@ def write_raw_bag(path, messages, storage: str = 'sqlite3', custom_data: dict | 
     path = Path(path)
     store = typestore()
     plugin = StoragePlugin.MCAP if storage == 'mcap' else StoragePlugin.SQLITE3
-    writer = Writer(path, version=8, storage_plugin=plugin)
+    writer = Writer(path, version=BAG_VERSION, storage_plugin=plugin)
     writer.open()
     for key, value in (custom_data or {}).items():
         writer.set_custom_data(key, _custom_value(value))
@@ -680,6 +710,6 @@ def write_raw_bag(path, messages, storage: str = 'sqlite3', custom_data: dict | 
         writer.abort()  # no summary, no footer
     else:
         # a killed recorder leaves its committed rows but no metadata.yaml
-        writer.storage.close(8, '')
+        writer.storage.close(BAG_VERSION, '')
         writer.storage = None
     return path

@@ -130,7 +130,7 @@ class ModelConfig:
     def load(cls, path) -> 'ModelConfig':
         """Read a YAML config file; errors name the file and the fix."""
         path = Path(path)
-        data = load_yaml(path, 'model config')
+        data = load_yaml(path, 'config')
         try:
             return cls.from_dict(data)
         except ConfigError as exc:

@@ -18,6 +18,7 @@ from rclpy.node import Node
 from rclpy.qos import DurabilityPolicy, HistoryPolicy, QoSProfile, ReliabilityPolicy
 
 from ..errors import ConfigError
+from ..io.bag import BAG_VERSION, add_topic
 from . import common, private
 
 #: topics recorded by default (relative: a namespace moves them)
@@ -41,22 +42,6 @@ def check_topics(topics) -> None:
 def _typestore():
     from rosbags.typesys import Stores, get_typestore
     return get_typestore(Stores.ROS2_JAZZY)
-
-
-def bag_qos(reliable: bool):
-    """The offered QoS written to the metadata: what the plant and controller offer."""
-    from rosbags.interfaces import (
-        Qos,
-        QosDurability,
-        QosHistory,
-        QosLiveliness,
-        QosReliability,
-        QosTime,
-    )
-    return Qos(QosHistory.KEEP_LAST, 10 if reliable else 5,
-               QosReliability.RELIABLE if reliable else QosReliability.BEST_EFFORT,
-               QosDurability.VOLATILE, QosTime(0, 0), QosTime(0, 0), QosLiveliness.AUTOMATIC,
-               QosTime(0, 0), False)
 
 
 class RecorderNode(Node):
@@ -85,7 +70,7 @@ class RecorderNode(Node):
             raise ConfigError(f'parent directory {self.out.parent} does not exist')
         check_topics(topics)
         plugin = StoragePlugin.SQLITE3 if storage == 'sqlite3' else StoragePlugin.MCAP
-        self.writer = Writer(self.out, version=9, storage_plugin=plugin)
+        self.writer = Writer(self.out, version=BAG_VERSION, storage_plugin=plugin)
         self.writer.set_custom_data('pneumatic_servo.circuit', 'servo')
         self.writer.set_custom_data('pneumatic_servo.recorder', 'pneumatic-servo record')
         self.writer.open()
@@ -102,8 +87,7 @@ class RecorderNode(Node):
             msgtype = common.TOPIC_TYPES[topic]
             full = self.resolve_topic_name(topic)
             reliable = topic in RELIABLE
-            conn = self.writer.add_connection(full, msgtype, typestore=store,
-                                              offered_qos_profiles=[bag_qos(reliable)])
+            conn = add_topic(self.writer, full, msgtype, store, reliable)
             # deep queues: the recorder may lag a burst (lockstep runs faster than real time)
             qos = QoSProfile(depth=2000, history=HistoryPolicy.KEEP_LAST,
                              reliability=(ReliabilityPolicy.RELIABLE if reliable
