@@ -9,7 +9,7 @@ venv=${PNEUMATIC_SERVO_VENV:-.venv}
 stamp="$venv/.installed"
 if [ ! -f "$stamp" ] || [ setup.py -nt "$stamp" ]; then
   python3 -m venv "$venv"
-  "$venv/bin/pip" install --quiet --disable-pip-version-check -e '.[ros,fast,test]'
+  "$venv/bin/pip" install --quiet --disable-pip-version-check -e '.[ros,fast,fleet,test]'
   touch "$stamp"
 fi
 export ROS_AUTOMATIC_DISCOVERY_RANGE=${ROS_AUTOMATIC_DISCOVERY_RANGE:-LOCALHOST}

@@ -28,7 +28,9 @@ setup(
         'fast': ['numba>=0.59'],
         # the paper rig's NI PCI-6229 through NI-DAQmx (only for backend rig, driver nidaqmx)
         'rig': ['nidaqmx'],
-        'test': ['pytest>=7', 'pytest-timeout'],
+        # many recordings on Dask (pneumatic-servo fleet): scheduler, progress bar, Parquet
+        'fleet': ['dask[distributed]>=2024.1', 'tqdm', 'pyarrow'],
+        'test': ['pytest>=7', 'pytest-timeout', 'hypothesis'],
     },
     zip_safe=True,
     maintainer='pneumatic_servo developers',

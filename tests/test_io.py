@@ -244,4 +244,5 @@ def test_library_reads_and_is_labelled_synthetic():
     assert storages == {'sqlite3', 'mcap'}
     assert 'SYNTHETIC' in readme and 'pneumatic-servo generate' in readme
     total = sum(f.stat().st_size for f in BAGS.rglob('*') if f.is_file())
-    assert total < 8e6, f'the library should stay small, is {total / 1e6:.1f} MB'
+    # 7 MB of single records and 2.6 MB of the fleet demo (24 bags, bags/fleet_demo)
+    assert total < 10e6, f'the library should stay small, is {total / 1e6:.1f} MB'

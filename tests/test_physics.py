@@ -370,3 +370,19 @@ def test_end_stops_hold_the_shaft(model):
         res = simulate(model, t, u, SUPPLY)
         assert res.angle_rad[-1] == pytest.approx(stop, abs=1e-6)
         assert abs(res.velocity_rad_s[-1]) < 1e-3
+
+
+@pytest.mark.parametrize('window,order,deriv', [(5, 2, 0), (31, 3, 2), (31, 2, 1), (101, 2, 0),
+                                                (7, 3, 1)])
+def test_savitzky_golay_equals_scipys(window, order, deriv):
+    """The package's filter (kept to spare every process the import of scipy.signal) gives
+    scipy's result, edges included."""
+    from scipy.signal import savgol_filter as scipys
+
+    from pneumatic_servo.smoothing import savgol_filter
+    x = np.cumsum(np.random.default_rng(1).normal(size=500))
+    want = scipys(x, window, order, deriv=deriv, delta=1e-3)
+    got = savgol_filter(x, window, order, deriv=deriv, delta=1e-3)
+    assert np.max(np.abs(got - want)) <= 1e-12 * np.max(np.abs(want))
+    with pytest.raises(ValueError, match='odd'):
+        savgol_filter(x, 4, 2)

@@ -63,7 +63,13 @@ def test_identify_gives_the_recorded_numbers(tmp_path):
     standard errors changed on purpose: the package now has one estimator of the
     effective sample count (the integrated autocorrelation time) instead of two, more
     cautious than the AR(1) one the refinement used, and its Jacobian steps over the
-    roughness that stick-slip gives the cost (x1.5 to x2 here)."""
+    roughness that stick-slip gives the cost (x1.5 to x2 here).
+
+    ``identify*.json`` were re-recorded (issue 10) after two deliberate changes: the
+    Savitzky-Golay filter moved into the package (``smoothing.py``, equal to scipy's within
+    1e-14; the friction procedure's least squares moves by 2e-9 relative), and the covariance
+    is now computed on columns scaled to the parameters, so that a small parameter beside a
+    large one no longer gets a standard error of about zero (x1.5 here)."""
     runs = {'identify.json': ('stribeck_friction.coulomb_friction_n,'
                               'stribeck_friction.viscous_friction_n_s_per_rad',
                               'bags/sine_2hz', 'open_loop'),

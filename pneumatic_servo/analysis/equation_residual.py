@@ -14,7 +14,6 @@ the prediction where it has one, else the room's. A view for the report, not a f
 from __future__ import annotations
 
 import numpy as np
-from scipy.signal import savgol_filter
 
 from ..effects.corrections import BY_EQUATION, regressor_values
 from ..effects.layout import C_INERTIA, C_R, C_VA, C_VB, CIRCUITS, N_CONTEXT, OMEGA, P_A, P_B
@@ -23,6 +22,7 @@ from ..model.assembly import Model
 from ..model.config import ModelConfig
 from ..model.simulate import initial_state
 from ..prediction.inputs import smoothed_signals
+from ..smoothing import savgol_filter
 
 #: [s] window of the derivatives
 DERIVATIVE_WINDOW_S = 0.031

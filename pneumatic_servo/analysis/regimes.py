@@ -26,11 +26,11 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.signal import savgol_filter
 
 from ..experiment import STATE_CHANNELS, Experiment, signal_of
 from ..model.config import ModelConfig
 from ..physics.gas import ideal_critical_ratio
+from ..smoothing import savgol_filter
 
 #: regime family -> its classes, in display order
 FAMILIES = {

@@ -19,10 +19,10 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.signal import savgol_filter
 
 from ..experiment import CHANNELS, STATE_CHANNELS, Experiment, signal_of
 from ..fitting.uncertainty import autocorrelation, effective_samples
+from ..smoothing import savgol_filter
 
 #: 95 % two-sided normal quantile
 Z95 = 1.96

@@ -15,7 +15,7 @@ from ..errors import PneumaticServoError
 
 #: verb -> module in this package
 VERBS = ('demo', 'simulate', 'compare', 'verify', 'identify', 'diagnose', 'generate', 'up',
-         'record', 'plant', 'controller')
+         'record', 'plant', 'controller', 'fleet')
 
 
 class Parser(argparse.ArgumentParser):
@@ -30,14 +30,16 @@ def one_line(text: str) -> str:
     return ' '.join(str(text).split())
 
 
-def build_parser() -> argparse.ArgumentParser:
+def build_parser(only: str | None = None) -> argparse.ArgumentParser:
+    """The command-line parser; with ``only``, just that verb's (importing every verb's
+    module costs a second of start-up, for scipy and matplotlib)."""
     parser = Parser(
         prog='pneumatic-servo',
         description='Model, identify and diagnose a pneumatic rotary position servo; run its '
                     'ROS 2 nodes.')
     sub = parser.add_subparsers(dest='verb', metavar='VERB')
     sub.required = True
-    for verb in VERBS:
+    for verb in (only,) if only in VERBS else VERBS:
         try:
             module = importlib.import_module(f'{__name__}.{verb}')
         except ModuleNotFoundError as exc:
@@ -49,7 +51,8 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv=None) -> int:
-    parser = build_parser()
+    argv = sys.argv[1:] if argv is None else [str(a) for a in argv]
+    parser = build_parser(argv[0] if argv else None)
     args, extra = parser.parse_known_args(argv)
     if extra:
         print(f'pneumatic-servo {args.verb}: error: unrecognized arguments: {" ".join(extra)}; '

@@ -5,7 +5,8 @@ The demo is a list of stages, run in order:
 
 1. ``paper_figures``: the paper's experiments and the switchable parts (figures);
 2. ``closed_loop``: a closed loop over DDS (``pneumatic_servo.ros.demo``);
-3. ``diagnosis``: the model-discrepancy workflow (``pneumatic_servo.workflow``).
+3. ``diagnosis``: the model-discrepancy workflow (``pneumatic_servo.workflow``);
+4. ``fleet``: the bundled synthetic fleet on a local Dask cluster (``pneumatic_servo.fleet``).
 """
 from __future__ import annotations
 
@@ -49,10 +50,16 @@ def _diagnosis(out_dir: Path, config, log) -> dict:
     return run_discrepancy_demo(out_dir / 'diagnosis')
 
 
+def _fleet(out_dir: Path, config, log) -> dict:
+    from ..fleet.demo import run_fleet_demo  # Dask is loaded only for this stage
+    return run_fleet_demo(out_dir / 'fleet', log)
+
+
 STAGES = (
     Stage('paper_figures', "paper's experiments and switchable parts", _paper_figures),
     Stage('closed_loop', 'closed loop over DDS', _closed_loop, 'skip_ros'),
     Stage('diagnosis', 'model-discrepancy workflow', _diagnosis, 'skip_diagnosis'),
+    Stage('fleet', 'a fleet of rigs on Dask: verify, track, alert', _fleet, 'skip_fleet'),
 )
 
 
@@ -72,6 +79,7 @@ def add_parser(sub) -> argparse.ArgumentParser:
     p.add_argument('--skip-ros', action='store_true', help='skip the closed loop over DDS')
     p.add_argument('--skip-diagnosis', action='store_true',
                    help='skip the model-discrepancy workflow')
+    p.add_argument('--skip-fleet', action='store_true', help='skip the fleet on Dask')
     p.set_defaults(run=run)
     return p
 

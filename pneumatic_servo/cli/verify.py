@@ -65,13 +65,19 @@ def _value(text: str, unit: str, what: str) -> float:
     return value
 
 
+def limits_from(args) -> dict:
+    """The error limits [SI] of the --max-*-error options (shared with ``fleet``)."""
+    from ..analysis.compare import limits_for
+    flow = getattr(args, 'max_flow_error', None)
+    return limits_for(_value(args.max_angle_error, 'deg', '--max-angle-error'),
+                      _value(args.max_pressure_error, 'Pa', '--max-pressure-error'),
+                      None if flow is None else _value(flow, 'kg/s', '--max-flow-error'))
+
+
 def run(args) -> int:
-    from ..analysis.compare import format_table, limits_for, verify
+    from ..analysis.compare import format_table, verify
     from ..io import read_experiment
-    limits = limits_for(_value(args.max_angle_error, 'deg', '--max-angle-error'),
-                        _value(args.max_pressure_error, 'Pa', '--max-pressure-error'),
-                        None if args.max_flow_error is None
-                        else _value(args.max_flow_error, 'kg/s', '--max-flow-error'))
+    limits = limits_from(args)
     exp = read_experiment(args.bag)
     ok, rows, result = verify(exp, args.config, effects=args.effects, limits=limits,
                               mode=args.mode, horizon_s=args.horizon, skip_s=args.skip)

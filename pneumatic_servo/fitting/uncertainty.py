@@ -72,9 +72,13 @@ def uncertainty(keys: list[str], x: np.ndarray, r: np.ndarray, jac: np.ndarray,
     keep = [i for i, k in enumerate(keys) if k not in ident.undetermined]
     cov = np.full((p, p), np.nan)
     if keep:
-        jk = jac[:, keep]
+        # columns scaled to their parameters' sizes first: a leak area (1e-8 m^2) and a
+        # friction force (10 N) differ by 1e9 in column norm, and an unscaled pseudo-inverse
+        # would drop the smaller as numerical noise and report its stderr as about zero
+        s = np.asarray(scale, float)[keep]
+        jk = jac[:, keep] * s
         cov[np.ix_(keep, keep)] = (float(r @ r) / max(n - len(keep), 1) * (n / n_eff)
-                                   * np.linalg.pinv(jk.T @ jk))
+                                   * np.outer(s, s) * np.linalg.pinv(jk.T @ jk))
     sd = np.sqrt(np.clip(np.diag(cov), 0.0, None))
     with np.errstate(invalid='ignore', divide='ignore'):
         corr = cov / np.outer(sd, sd)

@@ -20,7 +20,6 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.signal import savgol_filter
 
 from ..effects.layout import C_INERTIA
 from ..errors import ExperimentError
@@ -28,6 +27,7 @@ from ..experiment import Experiment
 from ..model.assembly import Model
 from ..model.config import ModelConfig
 from ..model.simulate import context, initial_state
+from ..smoothing import savgol_filter
 
 
 def total_inertia(config: ModelConfig) -> float:

@@ -24,13 +24,13 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.signal import savgol_filter
 
 from .. import effects as registry
 from ..errors import ExperimentError
 from ..experiment import Experiment
 from ..model.config import ModelConfig
 from ..physics.gas import clearance_flow
+from ..smoothing import savgol_filter
 
 H_KEY = 'wall_heat_transfer.heat_transfer_coefficient_w_per_m2_k'
 

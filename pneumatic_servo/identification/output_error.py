@@ -57,7 +57,8 @@ def fit_output_error(config: ModelConfig, experiments: list[Experiment], free: l
                      channels=None, mode: str = 'open_loop',
                      horizon_s: float = COMPARE_HORIZON_S, bounds: dict | None = None,
                      start: dict | None = None, max_nfev: int = 40,
-                     skip_s: float = 0.0) -> Fit:
+                     skip_s: float = 0.0, starts: list[dict] | None = None,
+                     bracket: bool = False) -> Fit:
     """Fit the parameters ``free`` (``'owner.name'`` keys of ``config``) to ``experiments``.
 
     Parameters
@@ -80,6 +81,13 @@ def fit_output_error(config: ModelConfig, experiments: list[Experiment], free: l
         Most evaluations of the solver.
     skip_s : float [s]
         Leave the first ``skip_s`` of every record out of the residual.
+    starts : list of dict, optional
+        Other start points (key -> value, the rest as ``start``): the cost is evaluated at
+        each (one batch) and the fit starts from the best. A leak or a friction level can
+        have a local minimum near the default that a start far away does not see.
+    bracket : bool
+        Search along each parameter before the solver (``fitting.solver.bracket_search``),
+        for costs that stick-slip makes rough.
 
     Returns
     -------
@@ -96,6 +104,12 @@ def fit_output_error(config: ModelConfig, experiments: list[Experiment], free: l
     config = with_values(config, list(start), list(start.values()))
     prob = Problem(config, free, parts_of(experiments, channels, mode, horizon_s, skip_s),
                    bounds=bounds, fd_step=FD_STEP, fd_min=FD_MIN)
-    result = fit(prob, max_nfev=max_nfev)
+    x0 = None
+    if starts:
+        x_start = np.array([config.get(k) for k in free])
+        trials = [np.clip([s.get(k, v) for k, v in zip(free, x_start)], prob.lo, prob.hi)
+                  for s in [{}] + list(starts)]
+        x0 = trials[int(np.argmin(prob.costs(trials)))]
+    result = fit(prob, x0, max_nfev=max_nfev, bracket=bracket)
     result.rms = channel_rms(prob, list(result.values.values()))
     return result

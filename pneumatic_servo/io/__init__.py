@@ -11,12 +11,12 @@ from __future__ import annotations
 from pathlib import Path
 
 from ..experiment import Experiment
-from .bag import read_bag, write_experiment_bag
+from .bag import read_bag, read_series, write_experiment_bag
 from .csv import read_static_csv, write_static_csv
 from .topics import TOPICS
 from .validate import check_physical
 
-__all__ = ['read_experiment', 'read_bag', 'read_static_csv', 'write_experiment_bag',
+__all__ = ['read_experiment', 'read_bag', 'read_series', 'read_static_csv', 'write_experiment_bag',
            'write_static_csv', 'write_experiment', 'TOPICS']
 
 

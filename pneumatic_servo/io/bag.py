@@ -329,10 +329,12 @@ def _make_handlers(where: str, topic_names: dict[str, str], wanted: set[str], jo
     return handlers, picker
 
 
-def _read_bag(path: Path, circuit: str | None, joint: str, namespace: str | None,
-              rate_hz: float | None, time_source: str, max_gap_s: float | None,
-              start_s: float | None, stop_s: float | None, strict: bool,
-              topic_map: dict | None, signals, name: str | None) -> Experiment:
+def _read_series(path: Path, circuit: str | None, joint: str, namespace: str | None,
+                 time_source: str, start_s: float | None, stop_s: float | None, strict: bool,
+                 topic_map: dict | None, signals, required: bool = True
+                 ) -> tuple[dict[str, _Series], str, dict]:
+    """The bag's measurement series, each on its own stamps, checked message by message:
+    (series by signal, circuit, metadata). ``required``: the circuit's topics must be there."""
     from rosbags.rosbag2 import Reader
     bag = _bag_dir(path)
     where = str(path)
@@ -365,7 +367,8 @@ def _read_bag(path: Path, circuit: str | None, joint: str, namespace: str | None
                         f'{where}: topic {bag_name} has type {got}; expected '
                         f'{TOPICS[topic].msgtype} (INTERFACES.md)')
             listed = {t: sum(c.msgcount for c in conns if c.topic == found[t]) for t in found}
-            _check_required(where, circuit, found, listed)
+            if required:
+                _check_required(where, circuit, found, listed)
             handlers, picker = _make_handlers(where, found, wanted, joint, time_source,
                                               series, flags)
             t_first = reader.start_time
@@ -411,7 +414,7 @@ def _read_bag(path: Path, circuit: str | None, joint: str, namespace: str | None
         meta['window_s'] = [start_s, stop_s]
     _parse_custom(custom, meta)
     del handlers  # its closures hold the raw series; _assemble releases them one by one
-    return _assemble(where, series, circuit, name or bag.name, rate_hz, max_gap_s, meta)
+    return series, circuit, meta
 
 
 def _parse_custom(custom: dict[str, str], meta: dict) -> None:
@@ -518,8 +521,39 @@ def read_bag(path, *, circuit: str | None = None, joint: str = DEFAULT_JOINT,
     name : str, optional
         Experiment name (default the bag directory's name).
     """
-    return _read_bag(Path(path), circuit, joint, namespace, rate_hz, time_source, max_gap_s,
-                     start_s, stop_s, strict, topic_map, signals, name)
+    path = Path(path)
+    series, circuit, meta = _read_series(path, circuit, joint, namespace, time_source, start_s,
+                                         stop_s, strict, topic_map, signals)
+    return _assemble(str(path), series, circuit, name or _bag_dir(path).name, rate_hz,
+                     max_gap_s, meta)
+
+
+def read_series(path, *, joint: str = DEFAULT_JOINT, namespace: str | None = None,
+                time_source: str = 'header', max_gap_s: float | None = None
+                ) -> tuple[dict[str, tuple[np.ndarray, np.ndarray]], dict]:
+    """Every measurement of a bag on its own stamps, not resampled: ({signal: (stamps [ns
+    since epoch], values [SI])}, metadata). The same checks as :func:`read_bag` (storage,
+    types, counts, finite values, stamps, gaps), but no topic is required: what a replay of
+    measurements needs, whatever the circuit."""
+    path = Path(path)
+    where = str(path)
+    series, _, meta = _read_series(path, None, joint, namespace, time_source, None, None,
+                                   False, None, None, required=False)
+    out = {}
+    for sig, raw in series.items():
+        stamps, values = raw.arrays()
+        if not len(values):
+            continue
+        topic = SIGNAL_TOPIC[sig]
+        validate.check_finite(where, f'{topic} ({sig})', stamps, values, int(stamps[0]))
+        validate.check_stamps(where, topic, stamps, int(stamps[0]), time_source
+                              if TOPICS[topic].stamped else 'record')
+        validate.check_gaps(where, topic, stamps, int(stamps[0]), max_gap_s)
+        out[sig] = (stamps, values)
+    if not out:
+        raise ExperimentError(f'{where}: no measurement topic has any message; record '
+                              'joint_states and the pressures')
+    return out, meta
 
 
 # ----------------------------------------------------------------------------- writing

@@ -1,8 +1,8 @@
 """Assemble a model from its components: parameter vector, state layout, compiled kernels.
 
-The right-hand side is composed from the components' stage hooks as a chain
-of small compiled closures, so any set of components, including a user's
-own, compiles into one fast function. Kernels are cached per composition.
+The right-hand side is composed from the components' stage hooks into one compiled
+function per composition, so any set of components, including a user's own, runs as
+fast as a hand-written model. ``kernel_cache`` compiles each composition once per machine.
 """
 from __future__ import annotations
 
@@ -10,71 +10,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .. import _jit
-from .._jit import njit
-from ..effects.base import STAGES, Component
+from ..effects.base import Component
 from ..effects.layout import CORE_PARAMS, CORE_STATE_ABS_TOL, CORE_STATE_NAMES, N_CORE_STATES
+from . import kernel_cache
 from .config import SLOTS, ModelConfig
-from .core import core_begin, core_end
-from .integrators import make_integrators
 
 _KERNELS: dict[tuple, dict] = {}
-
-
-@njit
-def _noop(t, x, P, c, dx):
-    pass
-
-
-def _bind(hook, s, p0, p1):
-    @njit
-    def bound(t, x, P, c, dx):
-        hook(t, x, s, P[p0:p1], P, c, dx)
-    return bound
-
-
-def _chain(first, second):
-    @njit
-    def both(t, x, P, c, dx):
-        first(t, x, P, c, dx)
-        second(t, x, P, c, dx)
-    return both
-
-
-def _stage(calls):
-    fn = _noop
-    for call in calls:
-        fn = call if fn is _noop else _chain(fn, call)
-    return fn
-
-
-def _make_rhs(stages):
-    valve, supply, geometry, flows, heat, mechanics, finish = (stages[s] for s in STAGES)
-
-    @njit
-    def rhs(t, x, u, ps, P, circuit, c, dx):
-        core_begin(t, x, u, ps, P, circuit, c, dx)
-        valve(t, x, P, c, dx)
-        supply(t, x, P, c, dx)
-        geometry(t, x, P, c, dx)
-        flows(t, x, P, c, dx)
-        heat(t, x, P, c, dx)
-        mechanics(t, x, P, c, dx)
-        finish(t, x, P, c, dx)
-        core_end(t, x, P, circuit, c, dx)
-    return rhs if _jit.ENABLED else _nan_on_math_error(rhs)
-
-
-def _nan_on_math_error(rhs):
-    """Plain Python raises where compiled code yields NaN (the square root of a negative
-    temperature in a wild trial step): make it NaN too, so the integrator reports a failed
-    simulation instead of the process dying."""
-    def safe(t, x, u, ps, P, circuit, c, dx):
-        try:
-            rhs(t, x, u, ps, P, circuit, c, dx)
-        except (ValueError, ZeroDivisionError, OverflowError):
-            dx[:] = np.nan
-    return safe
 
 
 @dataclass(frozen=True)
@@ -109,23 +50,10 @@ class Layout:
 
 
 def kernels_for(layout: Layout) -> dict:
-    """Compiled rhs and integrators for this composition (cached)."""
-    key = layout.classes
-    if key not in _KERNELS:
-        stages = {}
-        for stage in STAGES:
-            calls = []
-            for i in layout.hook_order():
-                hook = layout.classes[i].hook(stage)
-                if hook is not None:
-                    p0, p1 = layout.param_slices[i]
-                    calls.append(_bind(hook, layout.state_offsets[i], p0, p1))
-            stages[stage] = _stage(calls)
-        rhs = _make_rhs(stages)
-        kern = make_integrators(rhs, layout.n_states)
-        kern['rhs'] = rhs
-        _KERNELS[key] = kern
-    return _KERNELS[key]
+    """Compiled rhs and integrators for this composition (kept per process, cached on disk)."""
+    if layout.classes not in _KERNELS:
+        _KERNELS[layout.classes] = kernel_cache.load(layout)
+    return _KERNELS[layout.classes]
 
 
 class Model:

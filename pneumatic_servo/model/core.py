@@ -12,6 +12,8 @@ and for the shaft (Eq. 37 with Eqs 34-36):
 
     J_tot dw/dt = A d_f (p_a - p_b) + tau_ext - tau_friction
 """
+import numpy as np
+
 from .._jit import njit
 from ..effects.layout import (
     BLOCKED,
@@ -167,3 +169,15 @@ def core_end(t, x, P, circuit, c, dx):
         acc = -w / HOLD_TIME_CONSTANT_S
     dx[THETA] = w
     dx[OMEGA] = acc
+
+
+def nan_on_math_error(rhs):
+    """Plain Python raises where compiled code yields NaN (the square root of a negative
+    temperature in a wild trial step): make it NaN too, so the integrator reports a failed
+    simulation instead of the process dying. Used when compilation is off."""
+    def safe(t, x, u, ps, P, circuit, c, dx):
+        try:
+            rhs(t, x, u, ps, P, circuit, c, dx)
+        except (ValueError, ZeroDivisionError, OverflowError):
+            dx[:] = np.nan
+    return safe

@@ -6,11 +6,11 @@ Units: s, V, Pa absolute, rad, K.
 from __future__ import annotations
 
 import numpy as np
-from scipy.signal import savgol_filter
 
 from ..experiment import Experiment
 from ..model.config import ModelConfig
 from ..model.simulate import delayed
+from ..smoothing import savgol_filter
 
 #: [s] width of the Savitzky-Golay window that smooths the signals a segment starts from
 START_WINDOW_S = 0.021

@@ -17,10 +17,10 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.signal import savgol_filter
 
 from ..errors import ConfigError
 from ..experiment import Experiment
+from ..smoothing import savgol_filter
 
 #: [s] k-step horizon of ``compare``, ``verify`` and output-error fits
 COMPARE_HORIZON_S = 0.2

@@ -18,7 +18,7 @@ import numpy as np
 
 from ..control.measurement import Measurement
 from ..errors import ConfigError, ExperimentError
-from ..io import read_experiment
+from ..io import read_series
 from ..io.topics import CELSIUS_K, SIGNAL_TOPIC
 
 JOINT_STATES = SIGNAL_TOPIC['angle_rad']
@@ -167,29 +167,32 @@ REPLAYED = {'p_a_pa': PRESSURE_A, 'p_b_pa': PRESSURE_B, 'supply_pa': PRESSURE_SU
 
 
 def read_replay_events(path, joint_name: str) -> list[ReplayEvent]:
-    """The measurements of a rosbag2 (sqlite3 or MCAP), in time order, read and validated by
-    :func:`pneumatic_servo.io.read_experiment` (the package's one bag reader) on its grid.
+    """The measurements of a rosbag2 (sqlite3 or MCAP), in time order, each at its own
+    recorded stamp, read and checked by :func:`pneumatic_servo.io.read_series` (the
+    package's bag reader; no resampling, and no topic required but joint_states: a replay
+    needs no valve command).
 
-    Times are the record's measurement times; temperatures go out in degC, as
-    ``sensor_msgs/Temperature`` carries them. Raises ExperimentError with the fix.
+    Temperatures go out in degC, as ``sensor_msgs/Temperature`` carries them. Raises
+    ExperimentError with the fix.
     """
-    exp = read_experiment(path, joint=joint_name)
-    if 'angle_rad' not in exp.signals:
+    series, _ = read_series(path, joint=joint_name)
+    if 'angle_rad' not in series:
         raise ExperimentError(f'bag {path} has no joint_states of joint {joint_name!r}; record '
                               'joint_states (and the pressures) to replay it')
-    t0 = int(exp.metadata.get('start_time_ns', 0))
-    stamps = t0 + np.round(exp.t * 1e9).astype(np.int64)
-    sig = exp.signals
-    nan = np.full(len(exp.t), math.nan)
-    velocity, effort = sig.get('velocity_rad_s', nan), sig.get('effort_n_m', nan)
-    present = [(s, topic) for s, topic in REPLAYED.items() if s in sig]
     events = []
-    for k, t_ns in enumerate(stamps.tolist()):
-        for s, topic in present:  # the scalars first: joint_states triggers the controller
-            value = sig[s][k] - (CELSIUS_K if s.startswith('t_') else 0.0)
-            events.append(ReplayEvent(t_ns, topic, float(value)))
-        events.append(ReplayEvent(t_ns, JOINT_STATES, float(sig['angle_rad'][k]),
-                                  float(velocity[k]), float(effort[k])))
+    for sig, topic in REPLAYED.items():
+        if sig in series:
+            offset = CELSIUS_K if sig.startswith('t_') else 0.0
+            stamps, values = series[sig]
+            events += [ReplayEvent(int(t), topic, float(v) - offset)
+                       for t, v in zip(stamps.tolist(), values.tolist())]
+    stamps, angle = series['angle_rad']
+    nan = (stamps, np.full(len(stamps), math.nan))
+    velocity, effort = (series.get(s, nan)[1] for s in ('velocity_rad_s', 'effort_n_m'))
+    events += [ReplayEvent(int(t), JOINT_STATES, float(a), float(v), float(e))
+               for t, a, v, e in zip(stamps.tolist(), angle, velocity, effort)]
+    # stable: at one stamp the scalars go first, joint_states last (it triggers the controller)
+    events.sort(key=lambda e: (e.t_ns, e.topic == JOINT_STATES))
     return events
 
 

@@ -12,9 +12,12 @@ Time is the measurements' ``header.stamp``: the same law runs in lockstep sim
 time, in real time and on a replayed bag. A sample whose stamp is not newer
 than the last one handled is ignored, so a measurement sent twice (lockstep
 resend) is answered once; a stamp more than ``restart_jump_s`` older starts the
-law afresh (the plant restarted its clock). A stamp further than
-``max_stamp_skew_s`` from the node's clock (sim time with ``use_sim_time``) is
-rejected and reported: one bad stamp never decides which samples count. Until a
+law afresh (the plant restarted its clock). A sample whose stamp leaves the stream by
+more than ``max_stamp_skew_s`` (its offset from the local monotonic clock jumps) is
+rejected and reported: one bad stamp never decides which samples count. The stream is
+judged against itself, not against the clock, so a replay of a year-old bag and a
+lockstep plant faster than real time are accepted; a stream that really moved (a new
+plant, a new clock) is followed after ``REANCHOR_SAMPLES`` samples agree on it. Until a
 setpoint or a trajectory arrives the controller holds the first measured angle (or
 ``initial_setpoint_rad``).
 """
@@ -38,6 +41,8 @@ from . import cdr, common, private
 from .common import COMMAND_QOS, SENSOR_QOS
 
 monotonic = time.monotonic
+#: samples in a row that must agree on a new stamp offset before the controller follows it
+REANCHOR_SAMPLES = 5
 CONTROLLERS = ('pid', 'smc')
 
 
@@ -55,8 +60,8 @@ NODE_SPECS = [
          'measured angle)', 'rad', 0.0, 6.5, read_only=True, allow_nan=True),
     Spec('input_timeout_s', 0.5, 'measurements older than this are reported stale', 's', 0.001,
          60.0),
-    Spec('max_stamp_skew_s', 10.0, "samples stamped further than this from the node's clock "
-         'are rejected and reported (0 = no check, for a replay of old data without sim time)',
+    Spec('max_stamp_skew_s', 10.0, 'a sample whose stamp jumps by more than this against the '
+         'stream of samples (and the local clock) is rejected and reported (0 = no check)',
          's', 0.0, 1e6),
     Spec('restart_jump_s', 1.0, 'a sample this much older than the last one restarts the '
          'law (the plant restarted its clock)', 's', 0.001, 1e6),
@@ -91,6 +96,8 @@ class ControllerNode(Node):
         self.fallbacks = 0
         self.rejected = 0
         self.restarts = 0
+        self._offset = self._new_offset = None  # [ns] stamp - monotonic clock
+        self._agreeing = 0
         self.last_u = math.nan
         self._last_input = -math.inf
         self.pub = self.create_publisher(Float64, common.COMMAND, COMMAND_QOS)
@@ -225,16 +232,32 @@ class ControllerNode(Node):
         self._try_compute()
 
     def _stamp_ok(self, stamp: int) -> bool:
-        """False (and counted, and reported) for a stamp far from the node's clock."""
-        skew = self.p['max_stamp_skew_s']
-        now = self.get_clock().now().nanoseconds
-        if skew <= 0.0 or now <= 0 or abs(stamp - now) <= skew * 1e9:
+        """False (and counted, and reported) for a stamp that jumps away from the stream.
+
+        The offset of a stamp from the local monotonic clock stays nearly the same from one
+        sample to the next whatever the time base (wall, sim, a replayed recording); the
+        reference follows every accepted sample, so a slow drift (a lockstep plant faster
+        than real time) is accepted, and moves to a new offset only when
+        ``REANCHOR_SAMPLES`` samples in a row agree on it."""
+        skew = self.p['max_stamp_skew_s'] * 1e9
+        offset = stamp - time.monotonic_ns()
+        if skew <= 0.0 or self._offset is None or abs(offset - self._offset) <= skew:
+            self._offset, self._new_offset, self._agreeing = offset, None, 0
+            return True
+        if self._new_offset is not None and abs(offset - self._new_offset) <= skew:
+            self._agreeing += 1
+        else:
+            self._new_offset, self._agreeing = offset, 1
+        if self._agreeing >= REANCHOR_SAMPLES:  # the stream itself moved: follow it
+            self.get_logger().info(f'measurement stamps moved by '
+                                   f'{(offset - self._offset) * 1e-9:+.3g} s: following them')
+            self._offset, self._new_offset, self._agreeing = offset, None, 0
             return True
         self.rejected += 1
         if self.rejected == 1 or self.rejected % 1000 == 0:
-            self.get_logger().warn(f'rejected a sample stamped {(stamp - now) * 1e-9:+.3g} s '
-                                   f'from the clock ({self.rejected} so far); check the '
-                                   'sender\'s clock')
+            jump = (offset - self._offset) * 1e-9
+            self.get_logger().warn(f'rejected a sample stamped {jump:+.3g} s off the stream '
+                                   f'({self.rejected} so far); check the sender\'s clock')
         return False
 
     def _restart(self) -> None:
@@ -302,7 +325,7 @@ class ControllerNode(Node):
         if self.rejected:
             level = 'warn' if level == 'ok' else level
             message += (f'; rejected {self.rejected} samples stamped more than '
-                        f'{self.p["max_stamp_skew_s"]:g} s from the clock')
+                        f'{self.p["max_stamp_skew_s"]:g} s off the stream')
         if extra:
             message = f'{extra}; {message}'
         ref = self.ref.position if self.ref is not None else math.nan

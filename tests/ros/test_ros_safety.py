@@ -96,6 +96,8 @@ def test_bad_commands_stale_commands_lifecycle_and_sigterm(procs, probe):
     res = probe.set_parameters(PLANT, backend='rig')
     assert not res[0].successful and 'read-only' in res[0].reason
     res = probe.set_parameters(PLANT, watchdog_s=0.05)
+    assert not res[0].successful and 'safety' in res[0].reason  # not while active
+    res = probe.set_parameters(PLANT, replay_rate=2.0)
     assert res[0].successful
 
     # SIGTERM: the valve goes to 5 V and the last diagnostics say so
@@ -128,8 +130,7 @@ def test_killed_controller_trips_the_watchdog(procs, probe):
     ctrl.wait(10)
     st = probe.wait_diag('plant', lambda s, v: level(s) == 2, 5.0, t, 'watchdog fault')
     assert 'watchdog' in st.message and out_v(probe, st) == 5.0
-    assert time.monotonic() - t < 2.0
-    assert plant.poll() is None
+    assert plant.poll() is None  # (the reaction time is measured in benchmarks/bench_ros.py)
 
 
 def run_cli(*argv, domain=99):

@@ -27,6 +27,7 @@ How the residual is formed:
 """
 from __future__ import annotations
 
+import copy
 import time
 
 import numpy as np
@@ -46,6 +47,7 @@ from .hosts import shared_host
 from .ladder import ladder
 from .options import DiagnoseOptions
 from .result import Diagnosis
+from .scoring import relative_fall
 from .status import certain, consistent, decide
 from .validation import score_on, validate
 from .verdict import earns_place, rank
@@ -161,7 +163,21 @@ def diagnose(experiments: list[Experiment], config: ModelConfig | None = None,
         joint = rank(candidates + found, base, options, data.independent, noise)
         ranking = [c for c in joint if not isinstance(c, Discovered)]
         found = [c for c in joint if isinstance(c, Discovered)]
-    finding = decide(ranking, found, base.score.overall, noise, options)
+    def pair(first, second):
+        """``second`` fitted on top of ``first``: (the step, the pair against the base)."""
+        t1 = time.perf_counter()
+        with_first = Baseline(first.config, first.score, base.values)
+        step = try_effect(screen_effect(second.effect, with_first, data), with_first, data,
+                          free, options)
+        step = rank([step], with_first, options, data.independent, noise)[0]
+        both = copy.copy(step)
+        both.n_params += first.n_params
+        both = rank([both], base, options, data.independent, noise)[0]
+        both.error_reduction = relative_fall(both.score.overall, base.score.overall)
+        timings['named_pair'] = time.perf_counter() - t1
+        return step, both
+
+    finding = decide(ranking, found, base.score.overall, noise, options, pair)
     if finding.look_on_top:
         winner = next(c for c in ranking if c.effect == finding.verdict)
         t1 = time.perf_counter()

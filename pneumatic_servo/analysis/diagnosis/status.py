@@ -112,12 +112,32 @@ def _named(best: Candidate, ranking, noise, options, small: bool) -> Finding:
 
 
 def decide(ranking: list[Candidate], discovered: list[Candidate], base_rms: float,
-           noise: float, options: DiagnoseOptions) -> Finding:
+           noise: float, options: DiagnoseOptions, pair=None) -> Finding:
     """The status, verdict and reason from the ranked named candidates, the ranked generic
-    corrections and the held-out residual [normalised] of the model as given."""
+    corrections and the held-out residual [normalised] of the model as given.
+
+    ``pair(first, second)``, if given, fits the named effect ``second`` on top of ``first``
+    and returns (that step, the pair scored against the model as given). When a generic
+    correction explains more than any single named effect, two named effects may still
+    explain it together: a rig can miss two effects at once, and one generic term can
+    mimic a mixture of both. If the second earns its place on top of the first and the
+    generic term is not clearly better than the pair, the first is the verdict (partly
+    explained: the second is looked for next round); otherwise nothing on the list fits.
+    """
     named = next((c for c in ranking if earns_place(c, options)), None)
     found = next((d for d in discovered if earns_place(d, options)), None)
     if named is not None and found is not None and clearly_better(found, named):
+        second = next((c for c in ranking if c is not named and earns_place(c, options)), None)
+        step, both = pair(named, second) if pair and second else (None, None)
+        if step is not None and earns_place(step, options) and not clearly_better(found, both):
+            finding = _named(named, ranking, noise, options, small=False)
+            finding.reason += (f'; a generic {found.equation} term explains more than it '
+                               f'alone ({100 * found.error_reduction:.0f} %), but with '
+                               f'{second.effect} on top the two named effects explain '
+                               f'{100 * both.error_reduction:.0f} %: two effects are '
+                               'missing, and the next round will find the other')
+            finding.status, finding.look_on_top = 'partly_explained', True
+            return finding
         partial = [c.effect for c in ranking if earns_place(c, options)]
         return Finding('unexplained', reason=(
             f'no name on the list fits: {named.effect} fits only part of it '

@@ -2,7 +2,8 @@
 # Re-record the behaviour reference of tests/test_unchanged.py (run from the repo root).
 # These JSON files were recorded on the tree of commit 3aa7caf, before the analysis side was
 # restructured (issue 8); the test checks that compare, identify and diagnose still give the
-# same numbers within solver tolerance. Re-record only on a deliberate change of behaviour.
+# same numbers within solver tolerance. Re-record only on a deliberate change of behaviour
+# (identify*.json were re-recorded in issue 10: see tests/test_unchanged.py).
 set -euo pipefail
 out=tests/data/golden
 P=${PNEUMATIC_SERVO:-.venv/bin/pneumatic-servo}

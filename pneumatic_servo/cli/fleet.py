@@ -1,0 +1,109 @@
+"""``pneumatic-servo fleet SOURCE... --store ROWS``: verify, track and diagnose many recordings
+on Dask, and warn when a rig degrades.
+
+SOURCE is a directory tree (every rosbag2 directory and static CSV under it), a glob, or a
+manifest CSV with a path column (and optionally rig). Every recording is verified against
+the model; --track E1,E2 also fits those effects (with --free base parameters) per
+recording, and an alert is raised where a tracked parameter of a rig trends or steps
+beyond its uncertainty (false-alarm rate 1 % per rig and parameter); --diagnose runs the
+full diagnosis per recording. Rows stream to the --store file as they finish; a rerun
+skips the recordings already there (keyed by content, config and options).
+Runs on an embedded Dask LocalCluster (one worker per core), or on an existing cluster
+with --scheduler. Exit status: 0 every recording read and passed, 1 one failed
+verification or could not be read (its row says why), 2 bad input.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+from pathlib import Path
+
+from .options import number, output_dir, output_file
+
+
+def add_parser(sub) -> argparse.ArgumentParser:
+    p = sub.add_parser('fleet', help='check many recordings on Dask; alert when a rig '
+                       'degrades', description=__doc__,
+                       formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument('sources', nargs='+', metavar='SOURCE',
+                   help='directory tree, glob or manifest CSV of recordings')
+    p.add_argument('--store', required=True, type=output_file, metavar='ROWS.jsonl',
+                   help='row store: results stream here; a rerun resumes from it')
+    p.add_argument('--config', metavar='CFG', help='model config YAML (default: the paper\'s)')
+    p.add_argument('--track', metavar='E1,E2', default='',
+                   help='effects to fit per recording and watch for change')
+    p.add_argument('--free', metavar='K1,K2', default='',
+                   help='base parameters (owner.name) fitted with the tracked effects')
+    p.add_argument('--diagnose', action='store_true', help='run the full diagnosis per '
+                   'recording (slow: minutes each)')
+    p.add_argument('--max-angle-error', default='1.25', metavar='DEG',
+                   help='largest accepted angle error [deg] (default 1.25, the paper\'s)')
+    p.add_argument('--max-pressure-error', default='4000', metavar='PA',
+                   help='largest accepted chamber pressure error [Pa, or with a unit such as '
+                        '"8 kPa"] (default 4000 Pa, the paper\'s)')
+    p.add_argument('--mode', choices=('open_loop', 'k_step'), default='open_loop',
+                   help='prediction view whose errors are verified (default open_loop)')
+    p.add_argument('--json', metavar='PATH', type=output_file, help='write every row and the '
+                   'alerts as JSON')
+    p.add_argument('--table', metavar='PATH', type=output_file,
+                   help='write the table as .parquet or .csv')
+    p.add_argument('--report', metavar='DIR', type=output_dir, help='write the fleet page '
+                   '(fleet.html) here')
+    p.add_argument('--scheduler', metavar='ADDRESS', help='run on this Dask scheduler '
+                   '(default: an embedded local cluster)')
+    p.add_argument('--workers', type=number(1, 1024, integer=True), metavar='N',
+                   help='local workers (default: one per core)')
+    p.add_argument('--no-progress', action='store_true', help='no progress bar')
+    p.set_defaults(run=run)
+    return p
+
+
+def _names(text: str) -> tuple[str, ...]:
+    return tuple(s.strip() for s in text.split(',') if s.strip())
+
+
+def run(args) -> int:
+    from ..analysis.compare import resolve_config
+    from ..errors import ConfigError
+    from ..fleet import FleetOptions, TaskOptions, find_recordings, run_fleet
+    from ..fleet.report import write_report
+    from ..fleet.run import parameter_names
+    from ..fleet.table import write_table
+    from .verify import limits_from
+    if args.table and Path(args.table).suffix.lower() not in ('.parquet', '.csv'):
+        raise ConfigError(f'--table {args.table}: name a .parquet or a .csv file')
+    config = resolve_config(args.config)
+    task = TaskOptions(track=_names(args.track), free=_names(args.free),
+                       diagnose=args.diagnose, mode=args.mode, limits=limits_from(args))
+    probe = resolve_config(config, list(task.track))  # unknown effects or keys: fail now
+    for key in task.free:
+        probe.get(key)
+    recordings = find_recordings(args.sources)
+    result = run_fleet(recordings, config, FleetOptions(
+        Path(args.store), args.scheduler, args.workers, not args.no_progress, task))
+    if args.json:
+        Path(args.json).write_text(json.dumps(result.to_json(), indent=1, default=str))
+    if args.table:
+        write_table(result.rows, args.table)
+    if args.report:
+        write_report(args.report, result.rows, result.alerts,
+                     parameter_names(config, task.track))
+    _summary(result)
+    return 1 if result.failed else 0
+
+
+def _summary(result) -> None:
+    rows = result.rows
+    errors = [r for r in rows if r['status'] == 'error']
+    failed = [r for r in rows if (r.get('verify') or {}).get('passed') is False]
+    print(f'{len(rows)} recordings of {len({r["rig"] for r in rows})} rigs '
+          f'({result.computed} checked now, {len(rows) - result.computed} from the store): '
+          f'{len(rows) - len(errors) - len(failed)} passed, {len(failed)} failed, '
+          f'{len(errors)} errors')
+    for r in errors:
+        print(f'  error  {r["path"]}: {r["error"]}')
+    for r in failed:
+        print(f'  FAIL   {r["path"]}')
+    print(f'{len(result.alerts)} alerts' + (':' if result.alerts else ''))
+    for a in result.alerts:
+        print(f'  ALERT  {a.text}')

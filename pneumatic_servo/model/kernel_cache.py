@@ -1,0 +1,131 @@
+"""Compile each composition of components once per machine, not once per process.
+
+The right-hand side of a composition calls the components' stage hooks in a fixed order
+with their parameter slices and state offsets as constants. It is written out as the
+source of a small module (``kernel_template.py`` with its composition block filled in),
+whose functions numba caches on disk (``cache=True``). A second process with the same
+composition, a Dask worker or a node restart, loads the machine code instead of spending
+seconds compiling it again.
+
+The module's file name is a hash of everything its machine code depends on: the source
+of this package and of every component's module, the composition, and the numba and
+Python versions. A changed hook therefore gets a new file; numba's own staleness check
+(the file's time stamp) is never relied on. The cache lives in ``$PNEUMATIC_SERVO_CACHE``,
+or ``~/.cache/pneumatic_servo/kernels``; if that cannot be written, a private temporary
+directory is used, which still works but does not persist.
+"""
+from __future__ import annotations
+
+import hashlib
+import importlib.util
+import inspect
+import os
+import sys
+import tempfile
+from functools import lru_cache
+from pathlib import Path
+
+import numpy as np
+
+from .. import _jit
+from ..effects.base import STAGES
+
+_PACKAGE = Path(__file__).resolve().parents[1]
+_TEMPLATE = Path(__file__).with_name('kernel_template.py')
+_BEGIN, _END = '# COMPOSITION BEGIN\n', '# COMPOSITION END\n'
+
+
+def cache_dir() -> Path:
+    """Directory of the generated kernel modules (created; writable or a private temp dir)."""
+    root = os.environ.get('PNEUMATIC_SERVO_CACHE') or Path.home() / '.cache' / 'pneumatic_servo'
+    path = Path(root) / 'kernels'
+    try:
+        path.mkdir(parents=True, exist_ok=True)
+        probe = tempfile.NamedTemporaryFile(dir=path, prefix='.probe')
+        probe.close()
+        return path
+    except OSError:
+        return _private_dir()
+
+
+@lru_cache(maxsize=1)
+def _private_dir() -> Path:
+    return Path(tempfile.mkdtemp(prefix='pneumatic_servo_kernels_'))
+
+
+@lru_cache(maxsize=1)
+def _package_digest() -> str:
+    """Hash of this package's source: any edit gives every composition a new module."""
+    h = hashlib.sha256()
+    for path in sorted(_PACKAGE.rglob('*.py')):
+        h.update(str(path.relative_to(_PACKAGE)).encode())
+        h.update(path.read_bytes())
+    return h.hexdigest()
+
+
+def _source_of(cls) -> bytes:
+    """Source text of the module defining ``cls`` (a user's file or the package's)."""
+    try:
+        return Path(inspect.getsourcefile(cls)).read_bytes()
+    except (TypeError, OSError):  # defined interactively: key by its identity instead
+        return repr(id(cls)).encode()
+
+
+def module_source(layout) -> str:
+    """Source of the kernel module of ``layout``: the template with its composition."""
+    lines = []
+    for stage in STAGES:
+        calls = []
+        for i in layout.hook_order():
+            if layout.classes[i].hook(stage) is not None:
+                p0, p1 = layout.param_slices[i]
+                calls.append(f'    _hook_{i}_{stage}(t, x, {layout.state_offsets[i]}, '
+                             f'P[{p0}:{p1}], P, c, dx)')
+        lines += ['@njit(cache=True)', f'def _{stage}(t, x, P, c, dx):',
+                  *(calls or ['    pass']), '', '']
+    lines += ['@njit(cache=True)', 'def _rhs(t, x, u, ps, P, circuit, c, dx):',
+              '    core_begin(t, x, u, ps, P, circuit, c, dx)',
+              *(f'    _{stage}(t, x, P, c, dx)' for stage in STAGES),
+              '    core_end(t, x, P, circuit, c, dx)', '', '',
+              'rhs = _rhs if ENABLED else nan_on_math_error(_rhs)',
+              f'N_STATE = {layout.n_states}', '']
+    header = ('from pneumatic_servo._jit import ENABLED\n'
+              'from pneumatic_servo.model.core import core_begin, core_end, nan_on_math_error\n')
+    template = _TEMPLATE.read_text()
+    before, rest = template.split(_BEGIN)
+    _, after = rest.split(_END)
+    return before + header + '\n\n' + '\n'.join(lines) + after
+
+
+def _key(layout, source: str) -> str:
+    numba = sys.modules.get('numba')
+    h = hashlib.sha256()
+    for part in (_package_digest(), source, sys.version,
+                 getattr(numba, '__version__', 'no numba'), str(_jit.ENABLED), np.__version__):
+        h.update(str(part).encode())
+    for cls in layout.classes:
+        h.update(f'{cls.__module__}.{cls.__qualname__}'.encode())
+        h.update(_source_of(cls))
+    return h.hexdigest()[:24]
+
+
+def load(layout) -> dict:
+    """Kernels of ``layout`` (``rhs``, ``fixed_interval``, ``adaptive_interval``, ``run``,
+    ``run_batch``) from its cached module, writing the module first if it is new."""
+    source = module_source(layout)
+    name = f'pneumatic_servo_kernel_{_key(layout, source)}'
+    path = cache_dir() / f'{name}.py'
+    if not path.exists() or path.read_text() != source:
+        tmp = path.with_name(f'.{name}.{os.getpid()}.tmp')
+        tmp.write_text(source)
+        os.replace(tmp, path)  # atomic: concurrent writers of one composition agree
+    spec = importlib.util.spec_from_file_location(name, path)
+    module = importlib.util.module_from_spec(spec)
+    for i, cls in enumerate(layout.classes):  # the hooks, as globals of the module
+        for stage in STAGES:
+            if cls.hook(stage) is not None:
+                setattr(module, f'_hook_{i}_{stage}', cls.hook(stage))
+    sys.modules[name] = module  # so numba and pickling find the module by name
+    spec.loader.exec_module(module)
+    return {k: getattr(module, k) for k in
+            ('rhs', 'fixed_interval', 'adaptive_interval', 'run', 'run_batch')}

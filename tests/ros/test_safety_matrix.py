@@ -1,0 +1,202 @@
+"""Safety over real DDS and real processes, in both clock modes and with one and two processes:
+every catchable stop signal, SIGKILL of either side, stale and far-future stamps, and safety
+parameters that no peer may change while the valve is live.
+
+Each test asserts the valve's safe value (``output_v`` of the plant's /diagnostics) within a
+bounded time after the fault, and that no process is left behind.
+"""
+import math
+import os
+import signal
+import time
+
+import pytest
+from lifecycle_msgs.msg import Transition
+from rostest_helpers import level
+from sensor_msgs.msg import JointState
+from std_msgs.msg import Float64
+
+from pneumatic_servo.ros.loop import STOP_SIGNALS
+
+PLANT = 'pneumatic_servo_plant'
+CONTROLLER = 'pneumatic_servo_controller'
+#: [s] a fault must show on /diagnostics within this (watchdog 0.1 s, diagnostics 0.05 s,
+#: DDS and a loaded machine on top)
+REACTION_S = 5.0
+
+
+def out_v(probe, st) -> float:
+    return float(probe.diag_values(st)['output_v'])
+
+
+def children(pid: int) -> list[int]:
+    """Live child processes of ``pid`` (from /proc)."""
+    out = []
+    for entry in os.listdir('/proc'):
+        if not entry.isdigit():
+            continue
+        try:
+            with open(f'/proc/{entry}/stat') as f:
+                fields = f.read().rsplit(')', 1)[1].split()
+        except OSError:
+            continue
+        if int(fields[1]) == pid and fields[0] != 'Z':
+            out.append(int(entry))
+    return out
+
+
+def alive(pid: int) -> bool:
+    try:
+        with open(f'/proc/{pid}/stat') as f:
+            return f.read().rsplit(')', 1)[1].split()[0] != 'Z'
+    except OSError:
+        return False
+
+
+def wait_gone(pid: int, timeout: float = 10.0) -> bool:
+    end = time.monotonic() + timeout
+    while time.monotonic() < end:
+        if not alive(pid):
+            return True
+        time.sleep(0.05)
+    return False
+
+
+def start_loop(procs, probe, clock: str, processes: int):
+    """Plant and controller closing the loop: `up` (one process, or the controller in a
+    child of it); returns the `up` process once the plant is commanding."""
+    up = procs.start('up', '--clock', clock, '--processes', str(processes),
+                     '--plant-set', 'diagnostics_period_s=0.05', name='up')
+    probe.wait_diag('plant', lambda s, v: s.message == 'commanding', 90.0,
+                    what=f'closed loop ({clock}, {processes} process)')
+    return up
+
+
+# ---------------------------------------------------------------------------- signals
+@pytest.mark.parametrize('sig', STOP_SIGNALS, ids=lambda s: s.name)
+def test_every_stop_signal_leaves_the_valve_safe(sig, procs, probe):
+    plant = procs.start('plant', '--set', 'diagnostics_period_s=0.05', name='plant')
+    probe.wait_diag('plant', lambda s, v: v.get('state') == 'active', 60.0, what='plant')
+    probe.spin_until(lambda: probe.command_pub.get_subscription_count() > 0, 10.0, 'sub')
+    end = time.monotonic() + 0.3
+    while time.monotonic() < end:
+        probe.command_pub.publish(Float64(data=6.5))
+        probe.spin(0.01)
+    probe.wait_diag('plant', lambda s, v: float(v['output_v']) == 6.5, REACTION_S)
+    t = time.monotonic()
+    plant.send_signal(sig)
+    st = probe.wait_diag('plant', lambda s, v: 'shut down' in s.message, REACTION_S, t,
+                         f'shutdown on {sig.name}')
+    assert sig.name in st.message and out_v(probe, st) == 5.0
+    assert plant.wait(10) == 0
+
+
+@pytest.mark.parametrize('clock', ('free', 'lockstep'))
+@pytest.mark.parametrize('processes', (1, 2))
+@pytest.mark.parametrize('sig', (signal.SIGHUP, signal.SIGQUIT), ids=lambda s: s.name)
+def test_up_stops_safely_on_a_signal_and_leaves_no_orphan(sig, processes, clock, procs,
+                                                          probe):
+    up = start_loop(procs, probe, clock, processes)
+    kids = children(up.pid)
+    assert len(kids) == (1 if processes == 2 else 0)
+    t = time.monotonic()
+    up.send_signal(sig)
+    st = probe.wait_diag('plant', lambda s, v: 'shut down' in s.message, REACTION_S, t,
+                         f'shutdown on {sig.name}')
+    assert out_v(probe, st) == 5.0
+    assert up.wait(15) == 0
+    assert all(wait_gone(k) for k in kids)
+
+
+# ----------------------------------------------------------------------------- SIGKILL
+@pytest.mark.parametrize('clock', ('free', 'lockstep'))
+def test_killed_controller_child_trips_the_watchdog(clock, procs, probe):
+    """Lockstep included: resending the measurement to a dead controller never feeds the
+    watchdog."""
+    up = start_loop(procs, probe, clock, 2)
+    (ctrl,) = children(up.pid)
+    t = time.monotonic()
+    os.kill(ctrl, signal.SIGKILL)
+    st = probe.wait_diag('plant', lambda s, v: level(s) == 2, REACTION_S, t, 'watchdog')
+    assert 'watchdog' in st.message and out_v(probe, st) == 5.0
+    assert up.poll() is None  # the plant keeps the valve safe and keeps reporting
+
+
+@pytest.mark.parametrize('clock', ('free', 'lockstep'))
+def test_killed_plant_process_takes_its_controller_child_along(clock, procs, probe):
+    up = start_loop(procs, probe, clock, 2)
+    (ctrl,) = children(up.pid)
+    up.send_signal(signal.SIGKILL)
+    up.wait(10)
+    assert wait_gone(ctrl), 'the controller outlived the process that started it'
+
+
+@pytest.mark.parametrize('clock', ('free', 'lockstep'))
+def test_killed_controller_in_its_own_process_trips_the_watchdog(clock, procs, probe):
+    """Two separate processes (plant, controller), the controller killed."""
+    plant = procs.start('plant', '--clock', clock, '--set', 'diagnostics_period_s=0.05',
+                        name='plant')
+    args = ('--use-sim-time',) if clock == 'lockstep' else ()
+    ctrl = procs.start('controller', *args, name='controller')
+    probe.wait_diag('plant', lambda s, v: s.message == 'commanding', 90.0, what='loop')
+    t = time.monotonic()
+    ctrl.send_signal(signal.SIGKILL)
+    ctrl.wait(10)
+    st = probe.wait_diag('plant', lambda s, v: level(s) == 2, REACTION_S, t, 'watchdog')
+    assert 'watchdog' in st.message and out_v(probe, st) == 5.0
+    assert plant.poll() is None
+
+
+# --------------------------------------------------------------------------- stamps
+def far_sample(stamp_s: float) -> JointState:
+    msg = JointState()
+    msg.header.stamp.sec = int(stamp_s)
+    msg.name = ['actuator_joint']
+    msg.position, msg.velocity, msg.effort = [1.0], [0.0], [0.0]
+    return msg
+
+
+@pytest.mark.parametrize('clock', ('free', 'lockstep'))
+def test_a_far_future_stamp_never_locks_the_controller_out(clock, procs, probe):
+    """One joint_states 1e6 s ahead is rejected and reported; the loop goes on, and after a
+    deactivate/activate of the plant it runs again."""
+    up = start_loop(procs, probe, clock, 1)
+    pub = probe.node.create_publisher(JointState, 'joint_states', 10)
+    probe.spin_until(lambda: pub.get_subscription_count() > 0, 10.0, 'controller sub')
+    now = time.time() if clock == 'free' else 0.0
+    t = time.monotonic()
+    for _ in range(5):
+        pub.publish(far_sample(now + 1e6))
+        probe.spin(0.02)
+    st = probe.wait_diag('controller', lambda s, v: int(v.get('rejected_stamps', 0)) > 0,
+                         REACTION_S, t, 'rejected stamp reported')
+    assert level(st) == 1 and 'rejected' in st.message
+    # the loop still runs: new commands keep arriving, no watchdog fault
+    n = len(probe.commands)
+    probe.spin(1.0)
+    assert len(probe.commands) > n
+    assert level(probe.diag('plant')) == 0
+    # and survives the plant's restart (its clock may start again)
+    assert probe.change_state(PLANT, Transition.TRANSITION_DEACTIVATE)
+    assert probe.change_state(PLANT, Transition.TRANSITION_ACTIVATE)
+    t = time.monotonic()
+    probe.wait_diag('plant', lambda s, v: s.message == 'commanding', 30.0, t, 'loop again')
+    assert up.poll() is None
+
+
+# ---------------------------------------------------------------- safety parameters
+def test_safety_parameters_are_fixed_while_active(procs, probe):
+    procs.start('plant', name='plant')
+    probe.wait_diag('plant', lambda s, v: v.get('state') == 'active', 60.0, what='plant')
+    for name, value in (('watchdog_s', 10.0), ('max_v', 8.0), ('min_v', 1.0),
+                        ('safe_v', 6.0)):
+        res = probe.set_parameters(PLANT, **{name: value})
+        assert not res[0].successful and 'safety' in res[0].reason, name
+    # deactivated (valve held safe), the operator may change them
+    assert probe.change_state(PLANT, Transition.TRANSITION_DEACTIVATE)
+    assert probe.set_parameters(PLANT, watchdog_s=0.05)[0].successful
+    # the safe voltage must stay inside the clamp range
+    assert not probe.set_parameters(PLANT, min_v=6.0, safe_v=5.0)[0].successful
+    assert probe.change_state(PLANT, Transition.TRANSITION_ACTIVATE)
+    st = probe.wait_diag('plant', lambda s, v: v.get('state') == 'active', 10.0)
+    assert math.isclose(float(probe.diag_values(st)['watchdog_ms']), 50.0)

@@ -1,0 +1,186 @@
+"""Fleet scale on real Dask: an embedded LocalCluster with 2 workers, and an existing
+cluster (a ``dask scheduler`` and two ``dask worker`` processes on loopback) through
+``--scheduler``; the command line runs in real subprocesses on a generated fleet of real
+bags (``synth.fleet``: one rig leaking more each day, one with growing friction, one bag
+cut short).
+"""
+import html
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pyarrow.parquet as pq
+import pytest
+
+from pneumatic_servo.fleet import detect_alerts, find_recordings
+from pneumatic_servo.fleet.alerts import FALSE_ALARM_RATE, best_change
+from pneumatic_servo.fleet.store import RowStore
+from pneumatic_servo.synth.fleet import FRICTION_KEY, SEAL_KEY, FleetDesign, write_fleet
+
+BIN = Path(sys.executable).parent
+TRACK = ['--track', 'piston_seal_leakage', '--free', FRICTION_KEY]
+LIMITS = ['--max-angle-error', '2', '--max-pressure-error', '8 kPa']
+
+
+@pytest.fixture(scope='module')
+def fleet(tmp_path_factory):
+    """3 rigs x 6 days, 3 s at 250 Hz each; cell-1's day 3 is cut short."""
+    return write_fleet(tmp_path_factory.mktemp('fleet') / 'fleet', FleetDesign(rigs=3))
+
+
+def cli(*args, **kw) -> subprocess.CompletedProcess:
+    return subprocess.run([str(BIN / 'pneumatic-servo'), 'fleet', *map(str, args)],
+                          capture_output=True, text=True, timeout=900, **kw)
+
+
+def recordings_of(fleet: Path) -> set[str]:
+    return {str(p.parent) for p in fleet.rglob('metadata.yaml')}
+
+
+def check_rows(out: dict, fleet: Path) -> dict:
+    """Every recording exactly once; the broken bag an error row with a one-line reason."""
+    paths = [r['path'] for r in out['recordings']]
+    assert sorted(paths) == sorted(recordings_of(fleet))
+    by_path = {r['path']: r for r in out['recordings']}
+    broken = by_path[str(fleet / 'cell-1' / 'day_03')]
+    assert broken['status'] == 'error' and 'no footer' in broken['error']
+    assert '\n' not in broken['error'] and broken['rig'] == 'cell-1'
+    ok = [r for r in out['recordings'] if r['status'] == 'ok']
+    assert len(ok) == len(paths) - 1
+    assert all(r['start_time'].startswith('2026-11-') and r['channels'] for r in ok)
+    return by_path
+
+
+def test_local_cluster_tracks_the_fleet_and_alerts_the_degrading_rigs_only(fleet, tmp_path):
+    proc = cli(fleet, '--store', tmp_path / 'rows.jsonl', *TRACK, *LIMITS, '--workers', 2,
+               '--json', tmp_path / 'fleet.json', '--table', tmp_path / 'fleet.parquet',
+               '--report', tmp_path / 'report')
+    assert proc.returncode == 1, proc.stderr  # one error row and the degraded recordings
+    out = json.loads((tmp_path / 'fleet.json').read_text())
+    by_path = check_rows(out, fleet)
+    alerted = {(a['rig'], a['parameter']) for a in out['alerts']}
+    assert alerted == {('cell-2', SEAL_KEY), ('cell-3', FRICTION_KEY)}, out['alerts']
+    leak = next(a for a in out['alerts'] if a['rig'] == 'cell-2')
+    assert leak['kind'] == 'trend' and leak['to'] > 3e-8 and leak['from'] < 1e-8
+    assert leak['since'].startswith('2026-11-0')
+    assert 'cell-2: effective orifice area of the seal leak rose from about' in leak['text']
+    # healthy recordings pass; the tracked values follow the truth
+    truth = json.loads((fleet / 'truth.json').read_text())['values']
+    healthy = by_path[str(fleet / 'cell-1' / 'day_00')]
+    assert healthy['verify']['passed'] is True
+    worn = by_path[str(fleet / 'cell-2' / 'day_05')]
+    assert worn['params'][SEAL_KEY]['value'] == pytest.approx(
+        truth['cell-2/day_05'][SEAL_KEY], rel=0.25)
+    # the same table for pandas users, and the page
+    table = pq.read_table(tmp_path / 'fleet.parquet').to_pydict()
+    assert sorted(table['path']) == sorted(by_path)
+    assert SEAL_KEY in table and f'{SEAL_KEY}_stderr' in table
+    page = (tmp_path / 'report' / 'fleet.html').read_text()
+    assert html.escape(leak['text']) in page and 'data:image/png;base64,' in page
+    assert 'ALERT  cell-2' in proc.stdout and 'ALERT  cell-1' not in proc.stdout
+
+
+def test_existing_cluster_through_scheduler(fleet, tmp_path):
+    env = {**os.environ, 'DASK_DISTRIBUTED__WORKER__DAEMON': 'False'}
+    sched_file = tmp_path / 'scheduler.json'
+    procs = [subprocess.Popen([str(BIN / 'dask'), 'scheduler', '--host', '127.0.0.1',
+                               '--port', '0', '--no-dashboard', '--scheduler-file',
+                               str(sched_file)], env=env, stdout=subprocess.DEVNULL,
+                              stderr=subprocess.DEVNULL, start_new_session=True)]
+    try:
+        end = time.monotonic() + 60
+        while not sched_file.exists() and time.monotonic() < end:
+            time.sleep(0.2)
+        address = json.loads(sched_file.read_text())['address']
+        for _ in range(2):
+            procs.append(subprocess.Popen(
+                [str(BIN / 'dask'), 'worker', address, '--nthreads', '1', '--no-dashboard',
+                 '--nworkers', '1'], env=env, stdout=subprocess.DEVNULL,
+                stderr=subprocess.DEVNULL, start_new_session=True))
+        proc = cli(fleet, '--store', tmp_path / 'rows.jsonl', '--scheduler', address,
+                   *LIMITS, '--json', tmp_path / 'fleet.json', '--no-progress')
+        assert proc.returncode == 1, proc.stderr
+        check_rows(json.loads((tmp_path / 'fleet.json').read_text()), fleet)
+    finally:
+        for p in procs:
+            os.killpg(p.pid, signal.SIGTERM)
+        for p in procs:
+            p.wait(30)
+
+
+def test_rerun_after_a_kill_finishes_the_rest_without_redoing_any(fleet, tmp_path):
+    store = tmp_path / 'rows.jsonl'
+    run = subprocess.Popen([str(BIN / 'pneumatic-servo'), 'fleet', str(fleet), '--store',
+                            str(store), *LIMITS, '--workers', '1', '--no-progress'],
+                           stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                           start_new_session=True)
+    end = time.monotonic() + 600
+    while time.monotonic() < end and run.poll() is None:
+        if store.exists() and store.read_text().count('\n') >= 4:
+            break
+        time.sleep(0.05)
+    assert run.poll() is None, 'the run finished before it could be killed'
+    os.killpg(run.pid, signal.SIGKILL)  # the client and its local workers at once
+    run.wait(30)
+    before = store.read_text().splitlines()
+    done = len(before)
+    assert 4 <= done < 18
+    proc = cli(fleet, '--store', store, *LIMITS, '--workers', 1, '--json',
+               tmp_path / 'fleet.json', '--no-progress')
+    assert f'({18 - done} checked now, {done} from the store)' in proc.stdout, proc.stdout
+    after = store.read_text().splitlines()
+    assert after[:done] == before  # nothing that had finished was redone or rewritten
+    assert len(after) == 18
+    check_rows(json.loads((tmp_path / 'fleet.json').read_text()), fleet)
+
+
+def test_a_half_written_row_is_dropped_and_rewritten(tmp_path):
+    path = tmp_path / 'rows.jsonl'
+    path.write_text('{"key": "a", "status": "ok"}\n{"key": "b", "sta')
+    store = RowStore(path)
+    assert 'a' in store and 'b' not in store
+    store.add({'key': 'b', 'status': 'ok'})
+    assert [json.loads(x)['key'] for x in path.read_text().splitlines()] == ['a', 'b']
+
+
+def test_false_alarm_rate_on_healthy_series_is_within_the_documented_rate():
+    rng = np.random.default_rng(0)
+    trials = 3000
+    alarms = 0
+    for _ in range(trials):
+        n = int(rng.integers(5, 31))
+        _, _, _, stat, threshold = best_change(np.arange(n, dtype=float), rng.normal(size=n))
+        alarms += stat > threshold
+    assert alarms / trials <= FALSE_ALARM_RATE
+
+
+def test_optimistic_stderr_does_not_alarm_a_healthy_rig_but_a_step_does():
+    rng = np.random.default_rng(3)
+    rows = []
+    for day in range(12):
+        for rig, shift in (('healthy', 0.0), ('stepped', 5.0 if day >= 7 else 0.0)):
+            rows.append({'rig': rig, 'path': f'{rig}/{day}', 'status': 'ok',
+                         'start_time': f'2026-11-{day + 1:02d}T08:00:00+00:00',
+                         'params': {'x.p': {'value': 10 + shift + rng.normal(),
+                                            'stderr': 1e-6}}})  # stderr far too small
+    alerts = detect_alerts(rows)
+    assert [(a.rig, a.kind) for a in alerts] == [('stepped', 'step')]
+    assert alerts[0].since.startswith('2026-11-08')
+
+
+def test_recordings_from_a_tree_a_glob_and_a_manifest(fleet, tmp_path):
+    tree = find_recordings([fleet])
+    assert {r.path for r in tree} == recordings_of(fleet)
+    glob = find_recordings([str(fleet / 'cell-2' / 'day_0*')])
+    assert len(glob) == 6
+    manifest = tmp_path / 'manifest.csv'
+    manifest.write_text(f'path,rig\n{fleet / "cell-1" / "day_00"},press-4\n')
+    assert [(r.path, r.rig) for r in find_recordings([manifest])] == [
+        (str(fleet / 'cell-1' / 'day_00'), 'press-4')]
+    proc = cli(tmp_path / 'nothing_here*', '--store', tmp_path / 'rows.jsonl')
+    assert proc.returncode == 2 and proc.stderr.count('\n') == 1 and 'no bag' in proc.stderr

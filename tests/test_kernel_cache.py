@@ -1,0 +1,69 @@
+"""Each composition compiles once per machine: a second process loads the machine code that
+numba cached on disk, and an edited effect gets a new module instead of stale code."""
+import os
+import subprocess
+import sys
+import textwrap
+
+import pytest
+
+from pneumatic_servo import _jit
+
+pytestmark = pytest.mark.skipif(not _jit.ENABLED, reason='numba is off: nothing to cache')
+
+RUN = textwrap.dedent('''
+    import sys
+    import numpy as np
+    from pneumatic_servo.model.simulate import simulate
+    from pneumatic_servo.model.assembly import Model
+    from pneumatic_servo.model.config import ModelConfig
+    cfg = ModelConfig.paper()
+    if len(sys.argv) > 1:
+        from pneumatic_servo import effects
+        effects.get(sys.argv[1])
+        cfg = cfg.with_effect(sys.argv[1])
+    m = Model(cfg)
+    t = np.arange(0, 0.05, 1e-3)
+    simulate(m, t, 5.5)
+    run = m.kernels['run']
+    print(sum(run.stats.cache_hits.values()), sum(run.stats.cache_misses.values()),
+          type(run).__module__)
+''')
+
+
+def run_in_fresh_process(cache, *args) -> tuple[int, int]:
+    out = subprocess.run([sys.executable, '-c', RUN, *map(str, args)], capture_output=True,
+                         text=True, check=True,
+                         env={**os.environ, 'PNEUMATIC_SERVO_CACHE': str(cache)}).stdout.split()
+    return int(out[0]), int(out[1])
+
+
+def test_the_second_process_loads_the_compiled_composition(tmp_path):
+    hits, misses = run_in_fresh_process(tmp_path)
+    assert hits == 0 and misses >= 1  # compiled, and written to the cache
+    hits, misses = run_in_fresh_process(tmp_path)
+    assert hits >= 1 and misses == 0  # loaded: no compilation
+    assert len(list((tmp_path / 'kernels').glob('pneumatic_servo_kernel_*.py'))) == 1
+
+
+def test_an_edited_effect_gets_a_new_module(tmp_path):
+    effect = tmp_path / 'my_leak.py'
+    source = textwrap.dedent('''
+        from pneumatic_servo.effects import Component, Param
+        from pneumatic_servo.effects.layout import C_TORQUE, THETA
+
+        def _spring(t, x, s, p, P, c, dx):
+            c[C_TORQUE] += -SCALE * p[0] * (x[THETA] - 1.0)
+
+        class Spring(Component):
+            name = 'spring_under_test'
+            params = (Param('stiffness_n_m_per_rad', 'N.m/rad', 0.05, 0.0, 5.0, 'rate'),)
+            mechanics = _spring
+    ''')
+    effect.write_text(source.replace('SCALE', '1.0'))
+    name = f'{effect}:Spring'
+    assert run_in_fresh_process(tmp_path, name)[1] >= 1
+    assert run_in_fresh_process(tmp_path, name)[1] == 0
+    effect.write_text(source.replace('SCALE', '2.0'))  # the user edits the effect
+    assert run_in_fresh_process(tmp_path, name)[1] >= 1  # compiled anew, not the old code
+    assert len(list((tmp_path / 'kernels').glob('pneumatic_servo_kernel_*.py'))) == 2
