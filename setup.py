@@ -15,8 +15,6 @@ setup(
         ('share/' + package_name + '/config', glob('config/*.yaml')),
         ('share/' + package_name + '/launch', glob('launch/*.py')),
     ],
-    package_data={package_name: ['data/*.yaml']},
-    include_package_data=True,
     python_requires='>=3.10',
     install_requires=['numpy>=1.24', 'scipy>=1.10', 'pyyaml>=6', 'rosbags>=0.10',
                       'matplotlib>=3.7'],

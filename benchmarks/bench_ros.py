@@ -25,6 +25,8 @@ import sys
 import time
 from pathlib import Path
 
+import numpy as np
+
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
@@ -183,6 +185,84 @@ def bench_lockstep(domain: int, seconds: float, processes: int) -> dict:
         lis.close()
 
 
+ECHO = """
+import sys, rclpy
+from std_msgs.msg import Float64
+from pneumatic_servo.ros import private
+rclpy.init()
+node = rclpy.create_node('echo')
+pub = node.create_publisher(Float64, 'pong', 10)
+kind = sys.argv[1]
+if kind == 'waitset':
+    sub = node.create_subscription(Float64, 'ping', lambda m: None, 10)
+    ws = private.wait_set(node.context, 1)
+    while rclpy.ok():
+        if private.is_ready(sub, private.wait(ws, [sub], 100_000_000)):
+            msg = private.take(sub)
+            if msg is not None:
+                pub.publish(msg)
+else:
+    node.create_subscription(Float64, 'ping', pub.publish, 10)
+    if kind == 'events':
+        from rclpy.experimental import EventsExecutor
+        ex = EventsExecutor()
+    else:
+        from rclpy.executors import SingleThreadedExecutor
+        ex = SingleThreadedExecutor()
+    ex.add_node(node)
+    ex.spin()
+"""
+
+
+def bench_executor(domain: int, kind: str, seconds: float) -> dict:
+    """Round trips per second through an echo node spun by ``kind`` in another process (one
+    message in flight: what a 1 kHz loop needs is a round trip well under 1 ms)."""
+    import rclpy
+    from std_msgs.msg import Float64
+
+    from pneumatic_servo.ros import private
+    echo = subprocess.Popen([sys.executable, '-c', ECHO, kind], env=env(domain),
+                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    ctx = rclpy.Context()
+    rclpy.init(context=ctx, domain_id=domain)
+    try:
+        node = rclpy.create_node('pinger', context=ctx)
+        pub = node.create_publisher(Float64, 'ping', 10)
+        sub = node.create_subscription(Float64, 'pong', lambda m: None, 10)
+        ws = private.wait_set(ctx, 1)
+        end = time.monotonic() + 30
+        while pub.get_subscription_count() == 0 or sub.get_publisher_count() == 0:
+            if time.monotonic() > end:
+                raise RuntimeError(f'echo node ({kind}) did not start')
+            time.sleep(0.05)
+        time.sleep(0.5)
+        lat, t_end, seq = [], time.monotonic() + seconds, 0.0
+        while time.monotonic() < t_end:
+            seq += 1.0
+            t0 = time.perf_counter()
+            pub.publish(Float64(data=seq))
+            while True:  # wait for this message's echo (late ones of a lost turn are skipped)
+                if private.is_ready(sub, private.wait(ws, [sub], 100_000_000)):
+                    msg = private.take(sub)
+                    if msg is not None and msg.data == seq:
+                        break
+                if time.perf_counter() - t0 > 0.1:
+                    break
+            lat.append(time.perf_counter() - t0)
+        lat = np.array(lat)
+        return {'round_trips_per_s': len(lat) / seconds,
+                'latency_p50_ms': 1e3 * float(np.percentile(lat, 50)),
+                'latency_p99_ms': 1e3 * float(np.percentile(lat, 99))}
+    finally:
+        echo.terminate()
+        try:
+            echo.wait(5)
+        except subprocess.TimeoutExpired:  # the EventsExecutor does not stop on SIGTERM
+            echo.kill()
+            echo.wait(5)
+        rclpy.shutdown(context=ctx)
+
+
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument('--seconds', type=float, default=8.0, help='measuring time per case [s]')
@@ -193,6 +273,11 @@ def main() -> int:
     print(f'machine: {os.cpu_count()} cores, load average {load[0]:.2f} {load[1]:.2f} '
           f'{load[2]:.2f}; ROS_DOMAIN_ID {domain}')
     res = {'load_average': load}
+    print('\nexecutors (item 21): round trip through an echo node in another process')
+    for kind in ('single_threaded', 'events', 'waitset'):
+        res[f'executor_{kind}'] = e = bench_executor(domain, kind, min(args.seconds, 4.0))
+        print(f'  {kind:16s} {e["round_trips_per_s"]:7.0f} round trips/s, latency p50 '
+              f'{e["latency_p50_ms"]:.3f} ms, p99 {e["latency_p99_ms"]:.3f} ms')
     for prio in (0, 50):
         res[f'free_priority_{prio}'] = f = bench_free(domain, args.seconds, prio)
         ok_rate = f['achieved_rate_hz'] >= TARGET_RATE * 1000.0

@@ -646,6 +646,10 @@ def add_topic(writer, topic: str, msgtype: str, store, reliable: bool):
                                  offered_qos_profiles=[offered_qos(reliable)])
 
 
+#: [ns] the latest stamp a ROS 2 ``builtin_interfaces/Time`` (int32 seconds) can hold
+MAX_STAMP_NS = (2**31 - 1) * 10**9
+
+
 def write_experiment_bag(exp: Experiment, path, storage: str = 'sqlite3',
                          metadata: dict | None = None, *, joint: str = DEFAULT_JOINT,
                          start_time_ns: int | None = None,
@@ -688,6 +692,14 @@ def write_experiment_bag(exp: Experiment, path, storage: str = 'sqlite3',
         raise ExperimentError(f'{path} exists already; choose a new bag directory or delete it')
     start = int(start_time_ns if start_time_ns is not None
                 else exp.metadata.get('start_time_ns', DEFAULT_START_NS))
+    t = np.asarray(exp.t, dtype=float)
+    if not (np.all(np.isfinite(t)) and np.all(np.diff(t) > 0)):
+        raise ExperimentError(f'{exp.name}: sample times must be finite and increasing to be '
+                              'written as a bag')
+    if not 0 <= start + t[-1] * 1e9 + latency_s * 1e9 < MAX_STAMP_NS:
+        raise ExperimentError(f'{exp.name}: stamps from {start * 1e-9:.0f} s over {t[-1]:.3g} s '
+                              'leave what a ROS 2 time holds (int32 seconds since 1970); '
+                              'shift the start time or shorten the record')
     topics = _messages(exp, joint, start, int(round(latency_s * 1e9)))
     store = typestore()
     plugin = StoragePlugin.MCAP if storage == 'mcap' else StoragePlugin.SQLITE3
