@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Set-up and entry points. On a fresh machine with Python 3.11:
 #   ./run.sh demo   creates .venv, installs the package, runs the main job into out/
-#   ./run.sh test   creates .venv if needed, runs the test suite
+#   ./run.sh test   creates .venv if needed, runs the test suite (or the tests named after it)
 #   ./run.sh bench  runs the benchmarks in benchmarks/ and prints their figures
 set -euo pipefail
 cd "$(dirname "$0")"
@@ -17,7 +17,7 @@ verb=${1:-demo}
 shift || true
 case "$verb" in
   demo)  exec "$venv/bin/pneumatic-servo" demo --out out "$@" ;;
-  test)  exec "$venv/bin/python" -m pytest -q tests "$@" ;;
+  test)  exec "$venv/bin/python" -m pytest -q "${@:-tests}" ;;
   bench) for b in benchmarks/bench_*.py; do echo "== $b"; "$venv/bin/python" "$b" "$@"; done ;;
   *)     exec "$venv/bin/pneumatic-servo" "$verb" "$@" ;;
 esac

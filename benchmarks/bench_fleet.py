@@ -8,7 +8,7 @@
    with an empty kernel cache, then again with it warm (target >= 5x real time end to end).
 3. Where a simulate's time goes: start-up (imports), bag read, simulation, bag write.
 
-Usage: ``python benchmarks/bench_fleet.py [--rigs 4] [--days 5]``
+Usage: ``python benchmarks/bench_fleet.py [--rigs 4] [--days 10]``
 """
 from __future__ import annotations
 
@@ -26,32 +26,33 @@ BIN = Path(sys.executable).parent
 
 
 def throughput(fleet: Path, work: Path, workers: int, track: bool) -> tuple[float, float]:
-    """(recordings per minute, peak RSS per worker [MB]) of one run with an empty store."""
+    """(recordings per minute, peak RSS per worker [MB]) of one run with an empty store, on
+    a local cluster started (and warmed up) before the clock starts, as a standing one is."""
     from distributed import Client, LocalCluster
 
     from pneumatic_servo.fleet import FleetOptions, TaskOptions, find_recordings
-    from pneumatic_servo.fleet.run import run_fleet
+    from pneumatic_servo.fleet.run import WORKER_ENV, run_fleet
     from pneumatic_servo.model.config import ModelConfig
     from pneumatic_servo.synth.fleet import FRICTION_KEY
     recs = find_recordings([fleet])
     task = TaskOptions(track=('piston_seal_leakage',) if track else (),
                        free=(FRICTION_KEY,) if track else ())
-    store = work / f'rows_{workers}_{track}.jsonl'
-    # a warm-up run on a throw-away store: every worker process loads its kernels once,
-    # as workers of a long-running cluster have
-    run_fleet(recs[:workers], ModelConfig.paper(),
-              FleetOptions(work / f'warm_{workers}_{track}.jsonl', None, workers, False, task))
-    t0 = time.perf_counter()
-    run_fleet(recs, ModelConfig.paper(), FleetOptions(store, None, workers, False, task))
-    minutes = (time.perf_counter() - t0) / 60
-    del Client, LocalCluster
-    return len(recs) / minutes, peak_rss_mb()
+    with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                      dashboard_address=None, env=WORKER_ENV) as cluster:
+        address = cluster.scheduler_address
 
-
-def peak_rss_mb() -> float:
-    """Peak RSS of this process's finished children (the last cluster's workers) [MB]."""
-    import resource
-    return resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 1024
+        def options(name):
+            return FleetOptions(work / f'{name}_{workers}_{track}.jsonl', address, None,
+                                False, task)
+        # every worker loads its kernels once, as the workers of a standing cluster have
+        run_fleet(recs[:2 * workers], ModelConfig.paper(), options('warm'))
+        t0 = time.perf_counter()
+        run_fleet(recs, ModelConfig.paper(), options('rows'))
+        minutes = (time.perf_counter() - t0) / 60
+        with Client(address) as client:
+            rss = client.run(lambda: __import__('resource').getrusage(
+                __import__('resource').RUSAGE_SELF).ru_maxrss / 1024)
+    return len(recs) / minutes, max(rss.values())
 
 
 def timed(cmd: list[str], env: dict) -> float:
@@ -91,7 +92,7 @@ def simulate_figures(work: Path) -> None:
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument('--rigs', type=int, default=4)
-    parser.add_argument('--days', type=int, default=5)
+    parser.add_argument('--days', type=int, default=10)
     args = parser.parse_args(argv)
     from pneumatic_servo.synth.fleet import FleetDesign, write_fleet
     with tempfile.TemporaryDirectory() as tmp:

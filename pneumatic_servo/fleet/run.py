@@ -19,6 +19,10 @@ from .discover import Recording
 from .store import RowStore
 from .task import TaskOptions, check_recording, content_key
 
+#: one thread per local worker process, numba's parallel batches and BLAS included: the
+#: workers already fill the cores, and more threads would only contend for them
+WORKER_ENV = {'NUMBA_NUM_THREADS': '1', 'OMP_NUM_THREADS': '1', 'OPENBLAS_NUM_THREADS': '1'}
+
 
 @dataclass
 class FleetOptions:
@@ -66,7 +70,7 @@ def _client(options: FleetOptions):
         return Client(options.scheduler, timeout='30s'), None
     cluster = LocalCluster(n_workers=options.workers or os.cpu_count() or 1,
                            threads_per_worker=1, processes=True, dashboard_address=None,
-                           silence_logs=logging.ERROR)
+                           silence_logs=logging.ERROR, env=WORKER_ENV)
     return Client(cluster), cluster
 
 
