@@ -29,8 +29,9 @@ def _plot_parameter(out_dir: Path, key: str, label: str, unit: str, rows: list[d
         line, = ax.plot(x, v, style, marker='o', ms=3, label=rig + (' (alert)' if rig in alerted
                                                                      else ''))
         ax.fill_between(x, v - 2 * s, v + 2 * s, color=line.get_color(), alpha=0.15, lw=0)
-    ax.set_title(f'{label} per rig (band: +/- 2 standard errors)')
-    ax.set_ylabel(f'{key} [{unit}]' if unit else key)
+    ax.set_title(f'{label} per rig ({key}; band: +/- 2 standard errors)', fontsize=10,
+                 pad=14)
+    ax.set_ylabel(f'[{unit}]' if unit else key)
     ax.legend(fontsize=8, ncol=min(4, len(rigs)))
     fig.autofmt_xdate()
     return _save(fig, out_dir, name)

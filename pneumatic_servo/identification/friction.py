@@ -1,18 +1,8 @@
 """Friction identification (paper Section 5.3, Eq. 43, Fig. 16).
 
-From servo runs at held valve voltages:
-
-* **steady segments**: where the shaft turns at constant speed, the moment
-  balance (Eq. 37) reduces to Eq. 43, F_f = 2 A (p_a - p_b); each segment
-  gives one (speed, force) point;
-* **breakaway**: the force at which a stuck shaft starts to move is the
-  static friction F_s;
-* **slip points**: below the speed where the motion becomes steady, a
-  pneumatic actuator stick-slips and has no constant-speed segment. There
-  the moment balance is used with its inertia term,
-  F_f = 2 A (p_a - p_b) - (2 J_tot / d_f) theta'' (Eq. 37; Eq. 43 is its
-  theta'' = 0 case), with theta' and theta'' from a short Savitzky-Golay
-  fit of the encoder angle, and the points are binned by speed.
+From servo runs at held valve voltages, :mod:`.friction_points` extracts (speed, force)
+points: steady segments (Eq. 43), breakaway (F_s) and, where the shaft stick-slips, slip
+points from the moment balance with its inertia term (Eq. 37).
 
 The Stribeck parameters F_s, F_c, theta'_s and B (Eq. 36) then come from the
 paper's geometric construction (:func:`stribeck_geometric`) and from a
