@@ -19,6 +19,7 @@ import json
 from pathlib import Path
 
 from .options import number, output_dir, output_file
+from .verify import add_limit_arguments
 
 
 def add_parser(sub) -> argparse.ArgumentParser:
@@ -36,11 +37,7 @@ def add_parser(sub) -> argparse.ArgumentParser:
                    help='base parameters (owner.name) fitted with the tracked effects')
     p.add_argument('--diagnose', action='store_true', help='run the full diagnosis per '
                    'recording (slow: minutes each)')
-    p.add_argument('--max-angle-error', default='1.25', metavar='DEG',
-                   help='largest accepted angle error [deg] (default 1.25, the paper\'s)')
-    p.add_argument('--max-pressure-error', default='4000', metavar='PA',
-                   help='largest accepted chamber pressure error [Pa, or with a unit such as '
-                        '"8 kPa"] (default 4000 Pa, the paper\'s)')
+    add_limit_arguments(p)
     p.add_argument('--mode', choices=('open_loop', 'k_step'), default='open_loop',
                    help='prediction view whose errors are verified (default open_loop)')
     p.add_argument('--json', metavar='PATH', type=output_file, help='write every row and the '

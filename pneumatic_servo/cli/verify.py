@@ -15,6 +15,7 @@ import json
 import math
 from pathlib import Path
 
+from ..analysis.compare import PAPER_MAX_ANGLE_ERROR_DEG, PAPER_MAX_PRESSURE_ERROR_PA
 from ..prediction import COMPARE_HORIZON_S
 from .options import output_file, positive_seconds, seconds
 
@@ -24,11 +25,7 @@ def add_parser(sub) -> argparse.ArgumentParser:
                        'if within the error limits, 1 if not', description=__doc__,
                        formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument('bag', metavar='BAG', help='rosbag2 directory (sqlite3 or MCAP) or static CSV')
-    p.add_argument('--max-angle-error', default='1.25', metavar='DEG',
-                   help='largest accepted angle error [deg] (default 1.25, the paper\'s)')
-    p.add_argument('--max-pressure-error', default='4000', metavar='PA',
-                   help='largest accepted chamber pressure error [Pa, or with a unit such as '
-                        '"4 kPa"] (default 4000 Pa = 4e-3 MPa, the paper\'s)')
+    add_limit_arguments(p)
     p.add_argument('--max-flow-error', default=None, metavar='KG_S',
                    help='largest accepted flow error [kg/s] (static flow tables; default: '
                         'flows are reported, not checked)')
@@ -37,12 +34,21 @@ def add_parser(sub) -> argparse.ArgumentParser:
     p.add_argument('--mode', choices=('open_loop', 'k_step'), default='open_loop',
                    help='prediction view whose errors are checked (default open_loop)')
     p.add_argument('--horizon', type=positive_seconds, default=COMPARE_HORIZON_S, metavar='S',
-                   help='k-step prediction horizon [s] (default 0.2)')
+                   help='k-step prediction horizon [s] (default %(default)g)')
     p.add_argument('--skip', type=seconds, default=0.0, metavar='S',
                    help='leave the first S seconds out of the check')
     p.add_argument('--json', metavar='PATH', type=output_file, help='write the check as JSON')
     p.set_defaults(run=run)
     return p
+
+
+def add_limit_arguments(p) -> None:
+    """--max-angle-error and --max-pressure-error, defaults the paper's (shared with fleet)."""
+    p.add_argument('--max-angle-error', default=f'{PAPER_MAX_ANGLE_ERROR_DEG:g}', metavar='DEG',
+                   help='largest accepted angle error [deg] (default %(default)s, the paper\'s)')
+    p.add_argument('--max-pressure-error', default=f'{PAPER_MAX_PRESSURE_ERROR_PA:g}',
+                   metavar='PA', help='largest accepted chamber pressure error [Pa, or with a '
+                   'unit such as "4 kPa"] (default %(default)s Pa, the paper\'s)')
 
 
 def _value(text: str, unit: str, what: str) -> float:
