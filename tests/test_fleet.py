@@ -184,3 +184,33 @@ def test_recordings_from_a_tree_a_glob_and_a_manifest(fleet, tmp_path):
         (str(fleet / 'cell-1' / 'day_00'), 'press-4')]
     proc = cli(tmp_path / 'nothing_here*', '--store', tmp_path / 'rows.jsonl')
     assert proc.returncode == 2 and proc.stderr.count('\n') == 1 and 'no bag' in proc.stderr
+
+
+def test_bad_recordings_are_rows_with_their_reason(tmp_path):
+    """A bag with a missing topic, one with NaN and a CSV with text in a number column: each
+    an error row with its one-line reason; the good recording beside them is checked."""
+    sys.path.insert(0, str(Path(__file__).parent))
+    from test_bad_bags import servo_messages
+
+    from pneumatic_servo.io.bag import write_raw_bag
+    rig = tmp_path / 'fleet' / 'cell-9'
+    rig.mkdir(parents=True)
+    write_raw_bag(rig / 'no_command', servo_messages(skip=('valve/command',)), 'sqlite3')
+    write_raw_bag(rig / 'nan', servo_messages(
+        value=lambda topic, k, v: float('nan') if topic == 'chamber_b/pressure' and k == 50
+        else v), 'sqlite3')
+    write_raw_bag(rig / 'good', servo_messages(), 'sqlite3')
+    (rig / 'text.csv').write_text('circuit,voltage_v,supply_pa,p_a_pa,t_s_k\n'
+                                  'closed_port,5.5,701325,five hundred kPa,293.15\n')
+    proc = cli(tmp_path / 'fleet', '--store', tmp_path / 'rows.jsonl', '--workers', 1,
+               '--max-pressure-error', '1 MPa', '--max-angle-error', '360', '--json',
+               tmp_path / 'fleet.json', '--no-progress')
+    assert proc.returncode == 1, proc.stderr
+    rows = {Path(r['path']).name: r for r in
+            json.loads((tmp_path / 'fleet.json').read_text())['recordings']}
+    assert set(rows) == {'no_command', 'nan', 'good', 'text.csv'}
+    assert rows['good']['status'] == 'ok' and rows['good']['rig'] == 'cell-9'
+    for name, words in (('no_command', 'valve/command'), ('nan', 'is nan'),
+                        ('text.csv', 'five hundred')):
+        assert rows[name]['status'] == 'error', name
+        assert words in rows[name]['error'] and '\n' not in rows[name]['error'], rows[name]
