@@ -75,7 +75,7 @@ def best_change(x: np.ndarray, values: np.ndarray):
         for kind, column in (('step', after), ('trend', ramp)):
             tries += 1
             fitted, rss = _rss(np.column_stack([ones, column]), values)
-            stat = (rss_const - rss) / max(rss / (n - 2), 1e-300 * max(rss_const, 1e-300))
+            stat = (rss_const - rss) / max(rss / (n - 2), 1e-300)  # a perfect fit: huge
             if best is None or stat > best[3]:
                 best = (kind, k, fitted, stat)
     threshold = float(f_dist.isf(FALSE_ALARM_RATE / tries, 1, n - 2))
@@ -142,13 +142,13 @@ def detect_alerts(rows: list[dict], describe_param=None) -> list[Alert]:
         if stat <= threshold or abs(end - start) <= MIN_CHANGE_STDERR * typical:
             continue
         label, unit = describe_param(key) if describe_param else (key, '')
-        since = _when(times, paths, k if kind == 'step' else k - 1)
+        first = k if kind == 'step' else k - 1  # the first changed recording, or the hinge
+        since = _when(times, paths, first)
         scatter = np.sqrt(np.sum((values - fitted) ** 2) / (len(values) - 2))
         evidence = (f'F = {stat:.3g} against {threshold:.3g} (false-alarm rate '
                     f'{FALSE_ALARM_RATE:.0%} per rig and parameter) over {len(points)} '
                     f'recordings; change {abs(end - start):.3g}, scatter {scatter:.2g}, '
                     f'typical standard error {typical:.2g}')
-        text = describe(rig, label, unit, kind, start, end, since,
-                        _days(times[k if kind == 'step' else k - 1], times[-1]))
+        text = describe(rig, label, unit, kind, start, end, since, _days(times[first], times[-1]))
         alerts.append(Alert(rig, key, kind, since, start, end, evidence, text))
     return alerts

@@ -75,11 +75,17 @@ def _client(options: FleetOptions):
 
 
 def _lost(recording: Recording, key: str, exc: BaseException) -> dict:
-    """The row of a recording whose task died with its worker (not stored: a rerun retries)."""
+    """The row of a recording whose task died with its worker or with a bug (not stored: a
+    rerun retries it)."""
+    from distributed import KilledWorker
+    if isinstance(exc, KilledWorker):
+        why = 'the worker running it was lost; run again to retry'
+    else:
+        why = (f'internal error {type(exc).__name__}: {" ".join(str(exc).split())}; please '
+               'report it')
     return {'path': recording.path, 'rig': recording.rig or Path(recording.path).parent.name,
             'start_time': None, 'key': key, 'status': 'error', 'channels': {}, 'verify': {},
-            'params': {}, 'verdict': None,
-            'error': f'the worker running it was lost ({type(exc).__name__}); run again to retry'}
+            'params': {}, 'verdict': None, 'error': why}
 
 
 def run_fleet(recordings: list[Recording], config: ModelConfig,
