@@ -315,3 +315,20 @@ def test_undecodable_message(tmp_path, storage):
         w.write(conns[topic], rec, raw)
     w.close()
     expect(path, 'on joint_states cannot be decoded as sensor_msgs/msg/JointState')
+
+
+def test_a_replay_reads_a_recording_with_a_gap_as_it_is(tmp_path):
+    """A recorder that lost a quarter second of one topic (best-effort QoS on a busy
+    machine) leaves a bag analysis refuses (it would interpolate across the gap), but a
+    replay publishes what was recorded: ``read_series`` keeps every sample on its stamp."""
+    from pneumatic_servo.io import read_series
+    gap = (100 * MS, 350 * MS)
+    msgs = [m for m in servo_messages(n=600)
+            if not (m[0] == 'chamber_a/pressure' and gap[0] <= m[2] - T0 <= gap[1])]
+    path = write_raw_bag(tmp_path / 'gap', msgs, 'sqlite3')
+    with pytest.raises(ExperimentError, match='gap'):
+        read_experiment(path)
+    series, _ = read_series(path)
+    stamps, values = series['p_a_pa']
+    assert len(stamps) == 600 - 250 and np.all(np.diff(stamps) > 0)
+    assert len(series['angle_rad'][0]) == 600

@@ -529,12 +529,13 @@ def read_bag(path, *, circuit: str | None = None, joint: str = DEFAULT_JOINT,
 
 
 def read_series(path, *, joint: str = DEFAULT_JOINT, namespace: str | None = None,
-                time_source: str = 'header', max_gap_s: float | None = None
+                time_source: str = 'header'
                 ) -> tuple[dict[str, tuple[np.ndarray, np.ndarray]], dict]:
     """Every measurement of a bag on its own stamps, not resampled: ({signal: (stamps [ns
     since epoch], values [SI])}, metadata). The same checks as :func:`read_bag` (storage,
-    types, counts, finite values, stamps, gaps), but no topic is required: what a replay of
-    measurements needs, whatever the circuit."""
+    types, counts, finite values, stamps), but no topic is required and gaps are kept (a
+    gap matters where samples are interpolated onto a grid, and nothing is here): what a
+    replay of measurements needs, whatever the circuit."""
     path = Path(path)
     where = str(path)
     series, _, meta = _read_series(path, None, joint, namespace, time_source, None, None,
@@ -548,7 +549,6 @@ def read_series(path, *, joint: str = DEFAULT_JOINT, namespace: str | None = Non
         validate.check_finite(where, f'{topic} ({sig})', stamps, values, int(stamps[0]))
         validate.check_stamps(where, topic, stamps, int(stamps[0]), time_source
                               if TOPICS[topic].stamped else 'record')
-        validate.check_gaps(where, topic, stamps, int(stamps[0]), max_gap_s)
         out[sig] = (stamps, values)
     if not out:
         raise ExperimentError(f'{where}: no measurement topic has any message; record '
