@@ -92,3 +92,14 @@ def parse_yaml(text: str, where: str, error=ConfigError):
 def load_yaml(path, what: str = 'YAML file', error=ConfigError):
     """The data of YAML file ``path`` (checked as :func:`read_text`)."""
     return parse_yaml(read_text(path, what, error), str(path), error)
+
+
+def bundled(name: str, marker: str, regenerate: str, error=PneumaticServoError) -> Path:
+    """``bags/NAME`` of the source tree (or of the working directory), recognised by its file
+    ``marker``; ``error`` names the command ``regenerate`` that remakes it if it is missing."""
+    for root in (Path(__file__).resolve().parents[1], Path.cwd()):
+        path = root / 'bags' / name
+        if (path / marker).exists():
+            return path
+    raise error(f'bundled data bags/{name} not found; regenerate it with {regenerate!r} from '
+                'the source tree')

@@ -17,6 +17,7 @@ from .analysis.diagnosis.text import plus_minus, print_ladder
 from .analysis.diagnosis_report import write_diagnosis_report
 from .analysis.report import write_compare_report
 from .errors import ExperimentError
+from .files import bundled
 from .io import read_experiment
 from .model.config import ModelConfig
 
@@ -26,13 +27,8 @@ DEMO_BAG = 'hidden_effect_demo'
 
 def demo_bag() -> Path:
     """Path of the bundled demo bag (``bags/hidden_effect_demo`` of the source tree)."""
-    for root in (Path(__file__).resolve().parents[1], Path.cwd()):
-        path = root / 'bags' / DEMO_BAG
-        if (path / 'metadata.yaml').exists():
-            return path
-    raise ExperimentError(f'bundled bag bags/{DEMO_BAG} not found; regenerate it with '
-                          "'python -m pneumatic_servo.synth.hidden --demo bags/' from the "
-                          'source tree')
+    return bundled(DEMO_BAG, 'metadata.yaml',
+                   'python -m pneumatic_servo.synth.hidden --demo bags/', ExperimentError)
 
 
 def _compare(exp, config, out_dir: Path, label: str, say) -> dict:

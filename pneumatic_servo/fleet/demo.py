@@ -7,6 +7,7 @@ import json
 from pathlib import Path
 
 from ..errors import ExperimentError
+from ..files import bundled
 from ..model.config import ModelConfig
 from .discover import find_recordings
 from .report import write_report
@@ -22,12 +23,8 @@ MAX_ANGLE_ERROR_DEG, MAX_PRESSURE_ERROR_PA = 2.0, 8e3
 
 
 def fleet_demo_dir() -> Path:
-    for root in (Path(__file__).resolve().parents[2], Path.cwd()):
-        path = root / 'bags' / FLEET_DEMO
-        if (path / 'truth.json').exists():
-            return path
-    raise ExperimentError(f'bundled fleet bags/{FLEET_DEMO} not found; regenerate it with '
-                          "'python -m pneumatic_servo.synth.fleet bags/fleet_demo'")
+    return bundled(FLEET_DEMO, 'truth.json',
+                   'python -m pneumatic_servo.synth.fleet bags/fleet_demo', ExperimentError)
 
 
 def run_fleet_demo(out_dir, log=print, fleet_dir=None) -> dict:

@@ -15,7 +15,7 @@ from pathlib import Path
 from ..analysis.compare import resolve_config
 from ..model.config import ModelConfig
 from .alerts import Alert, detect_alerts
-from .discover import Recording
+from .discover import Recording, rig_of
 from .store import RowStore
 from .task import TaskOptions, check_recording, content_key
 
@@ -83,7 +83,7 @@ def _lost(recording: Recording, key: str, exc: BaseException) -> dict:
     else:
         why = (f'internal error {type(exc).__name__}: {" ".join(str(exc).split())}; please '
                'report it')
-    return {'path': recording.path, 'rig': recording.rig or Path(recording.path).parent.name,
+    return {'path': recording.path, 'rig': rig_of(recording, {}),
             'start_time': None, 'key': key, 'status': 'error', 'channels': {}, 'verify': {},
             'params': {}, 'verdict': None, 'error': why}
 

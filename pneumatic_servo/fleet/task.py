@@ -114,7 +114,7 @@ def check_recording(recording: Recording, config: dict, options: TaskOptions,
         row.update(status='error', error=' '.join(str(exc).split()))
     except (OSError, UnicodeError, ValueError, RuntimeError) as exc:
         row.update(status='error', error=f'{type(exc).__name__}: {" ".join(str(exc).split())}')
-    if row['rig'] is None:
-        row['rig'] = Path(recording.path).resolve().parent.name
+    if row['rig'] is None:  # the recording could not be read: no custom data to ask
+        row['rig'] = rig_of(recording, {})
     row['seconds'] = round(time.perf_counter() - t0, 3)
     return row
