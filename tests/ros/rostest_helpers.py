@@ -212,5 +212,9 @@ class Probe:
         return fut.result().success
 
     def close(self) -> None:
+        """Executor first: its suspended wait generator can hold the node's handles in use,
+        which defers their destruction to an arbitrary later moment (a rare segfault in
+        ``destroy_node`` was seen once in CI with the old order); then node, then context."""
+        self.executor.shutdown(timeout_sec=5.0)
         self.node.destroy_node()
         rclpy.try_shutdown(context=self.context)

@@ -182,9 +182,10 @@ def test_replay_of_a_bag_with_a_controller(procs, probe, tmp_path):
             assert got[ns][0] == pytest.approx(angle, abs=1e-12) and got[ns][1] == 1.0
     pa = {x[3]: x[1] for x in probe.topics['chamber_a/pressure']}
     assert all(pa[ns] == pytest.approx(p) for ns, _, p in rows if ns in pa)
-    # in its own time: 1.5 s of recording takes about 1.5 s
+    # in its own time, 10 ms apart, not as fast as it can: the median gap (robust to a stall
+    # of a loaded machine, which the replay catches up) and a floor on the whole span
     recv = np.array([j[3] for j in probe.joint])
-    assert 1.2 < recv[-1] - recv[0] < 2.5
+    assert 0.005 < np.median(np.diff(recv)) < 0.02 and recv[-1] - recv[0] > 1.2
     # the controller ran against the recording
     assert len(probe.commands) >= 0.9 * len(rows)
     assert all(math.isfinite(c) for _, c in probe.commands)
