@@ -4,6 +4,7 @@ cluster (a ``dask scheduler`` and two ``dask worker`` processes on loopback) thr
 bags (``synth.fleet``: one rig leaking more each day, one with growing friction, one bag
 cut short).
 """
+import csv
 import html
 import json
 import os
@@ -214,3 +215,26 @@ def test_bad_recordings_are_rows_with_their_reason(tmp_path):
                         ('text.csv', 'five hundred')):
         assert rows[name]['status'] == 'error', name
         assert words in rows[name]['error'] and '\n' not in rows[name]['error'], rows[name]
+
+
+def test_diagnose_per_recording_keeps_the_status(fleet, tmp_path):
+    """``--diagnose`` on the leaking rig's last day: the row, the table and the page carry
+    the status with the verdict (verdict 'none' alone would hide an 'unexplained')."""
+    leaking = fleet / 'cell-2' / 'day_05'
+    manifest = tmp_path / 'one.csv'
+    manifest.write_text(f'path,rig\n{leaking},cell-2\n')
+    proc = cli(manifest, '--store', tmp_path / 'rows.jsonl', '--diagnose', *LIMITS,
+               '--workers', 1, '--json', tmp_path / 'fleet.json', '--table',
+               tmp_path / 'fleet.csv', '--report', tmp_path / 'report', '--no-progress')
+    assert proc.returncode in (0, 1), proc.stderr
+    (row,) = json.loads((tmp_path / 'fleet.json').read_text())['recordings']
+    assert row['status'] == 'ok', row['error']
+    assert row['diagnosis']['status'] == 'explained', row['diagnosis']
+    assert row['verdict'] == row['diagnosis']['verdict'] == 'piston_seal_leakage'
+    assert 'piston_seal_leakage' in row['diagnosis']['reason']
+    assert f'model  {leaking}: explained, piston_seal_leakage' in proc.stdout
+    with open(tmp_path / 'fleet.csv', newline='') as f:
+        (flat,) = list(csv.DictReader(f))
+    assert flat['diagnosis_status'] == 'explained'
+    page = (tmp_path / 'report' / 'fleet.html').read_text()
+    assert 'explained: piston_seal_leakage' in page

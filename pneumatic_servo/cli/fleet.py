@@ -101,6 +101,11 @@ def _summary(result) -> None:
         print(f'  error  {r["path"]}: {r["error"]}')
     for r in failed:
         print(f'  FAIL   {r["path"]}')
+    for r in rows:  # with --diagnose: every recording whose model misses something
+        found = r.get('diagnosis')
+        if found and found['status'] != 'consistent':
+            print(f'  model  {r["path"]}: {found["status"]}'
+                  + ('' if found['verdict'] == 'none' else f', {found["verdict"]}'))
     print(f'{len(result.alerts)} alerts' + (':' if result.alerts else ''))
     for a in result.alerts:
         print(f'  ALERT  {a.text}')

@@ -63,17 +63,28 @@ def write_report(out_dir, rows: list[dict], alerts: list, describe_param) -> Pat
     body.append('<h2>Recordings</h2>')
     channels = sorted({c for r in rows for c in (r.get('channels') or {})})
     units = {c: u for r in rows for c, u in (r.get('units') or {}).items()}
+    diagnosed = any(r.get('diagnosis') for r in rows)
     body.append(table(['rig', 'start', 'recording', 'result']
+                      + (['diagnosis'] if diagnosed else [])
                       + [f'{c} RMS [{units.get(c, "SI")}]' for c in channels],
-                      [_row_cells(r, channels) for r in sorted(
+                      [_row_cells(r, channels, diagnosed) for r in sorted(
                           rows, key=lambda r: (r['rig'], r['start_time'] or '', r['path']))],
-                      left=4))
+                      left=5 if diagnosed else 4))
     path = out_dir / 'fleet.html'
     path.write_text(page('Fleet check', body), encoding='utf-8')
     return path
 
 
-def _row_cells(row: dict, channels: list[str]) -> list[str]:
+def _diagnosis_cell(found: dict | None) -> str:
+    """Status and verdict, the reason on hover; anything but 'consistent' stands out."""
+    if not found:
+        return '-'
+    text = found['status'] + ('' if found['verdict'] == 'none' else f': {found["verdict"]}')
+    cls = '' if found['status'] == 'consistent' else ' class="worse"'
+    return f'<span{cls} title="{html.escape(found["reason"])}">{html.escape(text)}</span>'
+
+
+def _row_cells(row: dict, channels: list[str], diagnosed: bool = False) -> list[str]:
     if row['status'] == 'error':
         result = f'<span class="worse">error: {html.escape(row["error"] or "")}</span>'
     else:
@@ -81,4 +92,6 @@ def _row_cells(row: dict, channels: list[str]) -> list[str]:
         result = 'pass' if passed else '<span class="worse">FAIL</span>'
     cells = [html.escape(row['rig']), html.escape(row['start_time'] or '-'),
              html.escape(Path(row['path']).name), result]
+    if diagnosed:
+        cells.append(_diagnosis_cell(row.get('diagnosis')))
     return cells + [fmt((row.get('channels') or {}).get(c, {}).get('rmse')) for c in channels]

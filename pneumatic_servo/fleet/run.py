@@ -85,7 +85,7 @@ def _lost(recording: Recording, key: str, exc: BaseException) -> dict:
                'report it')
     return {'path': recording.path, 'rig': rig_of(recording, {}),
             'start_time': None, 'key': key, 'status': 'error', 'channels': {}, 'verify': {},
-            'params': {}, 'verdict': None, 'error': why}
+            'params': {}, 'verdict': None, 'diagnosis': None, 'error': why}
 
 
 def run_fleet(recordings: list[Recording], config: ModelConfig,

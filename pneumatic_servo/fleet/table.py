@@ -1,8 +1,8 @@
 """The fleet rows as one flat table for pandas users: Parquet (with pyarrow) or CSV.
 
 One row per recording; nested results become columns: ``<channel>_rmse`` for each
-channel's open-loop (or chosen mode's) RMS error [SI], ``passed``, and ``<key>`` and
-``<key>_stderr`` for each tracked parameter [SI].
+channel's open-loop (or chosen mode's) RMS error [SI], ``passed``, ``diagnosis_status``
+(with ``--diagnose``), and ``<key>`` and ``<key>_stderr`` for each tracked parameter [SI].
 """
 from __future__ import annotations
 
@@ -11,15 +11,17 @@ from pathlib import Path
 
 from ..errors import ConfigError
 
-FIXED = ('path', 'rig', 'start_time', 'status', 'error', 'passed', 'verdict', 'seconds')
+FIXED = ('path', 'rig', 'start_time', 'status', 'error', 'passed', 'diagnosis_status',
+         'verdict', 'seconds')
 
 
 def flat(rows: list[dict]) -> tuple[list[str], list[dict]]:
     """(column names, one flat dict per row)."""
     out, extra = [], {}
     for row in rows:
-        r = {k: row.get(k) for k in FIXED if k != 'passed'}
+        r = {k: row.get(k) for k in FIXED}
         r['passed'] = (row.get('verify') or {}).get('passed')
+        r['diagnosis_status'] = (row.get('diagnosis') or {}).get('status')
         for ch, m in (row.get('channels') or {}).items():
             r[f'{ch}_rmse'] = m.get('rmse')
         for key, est in (row.get('params') or {}).items():

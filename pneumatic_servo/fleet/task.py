@@ -93,7 +93,7 @@ def check_recording(recording: Recording, config: dict, options: TaskOptions,
     t0 = time.perf_counter()
     row = {'path': recording.path, 'rig': recording.rig, 'start_time': None, 'key': key,
            'status': 'ok', 'error': None, 'channels': {}, 'verify': {}, 'params': {},
-           'verdict': None}
+           'verdict': None, 'diagnosis': None}
     try:
         cfg = ModelConfig.from_dict(config)
         exp = read_experiment(recording.path)
@@ -109,7 +109,10 @@ def check_recording(recording: Recording, config: dict, options: TaskOptions,
             row['params'] = _tracked(exp, cfg, options)
         if options.diagnose:
             from ..analysis.diagnosis import diagnose
-            row['verdict'] = diagnose([exp], cfg).to_json()['verdict']
+            found = diagnose([exp], cfg).to_json()
+            # the status too: verdict 'none' is both "the model fits" and "no name fits"
+            row['diagnosis'] = {k: found[k] for k in ('status', 'verdict', 'reason')}
+            row['verdict'] = found['verdict']
     except PneumaticServoError as exc:
         row.update(status='error', error=' '.join(str(exc).split()))
     except (OSError, UnicodeError, ValueError, RuntimeError) as exc:
