@@ -232,7 +232,7 @@ def test_diagnose_per_recording_keeps_the_status(fleet, tmp_path):
     assert row['diagnosis']['status'] == 'explained', row['diagnosis']
     assert row['verdict'] == row['diagnosis']['verdict'] == 'piston_seal_leakage'
     assert 'piston_seal_leakage' in row['diagnosis']['reason']
-    assert f'model  {leaking}: explained, piston_seal_leakage' in proc.stdout
+    assert f'model  {leaking}: explained: piston_seal_leakage' in proc.stdout
     with open(tmp_path / 'fleet.csv', newline='') as f:
         (flat,) = list(csv.DictReader(f))
     assert flat['diagnosis_status'] == 'explained'

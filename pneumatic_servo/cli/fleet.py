@@ -90,6 +90,7 @@ def run(args) -> int:
 
 
 def _summary(result) -> None:
+    from ..fleet.task import diagnosis_text
     rows = result.rows
     errors = [r for r in rows if r['status'] == 'error']
     failed = [r for r in rows if (r.get('verify') or {}).get('passed') is False]
@@ -104,8 +105,7 @@ def _summary(result) -> None:
     for r in rows:  # with --diagnose: every recording whose model misses something
         found = r.get('diagnosis')
         if found and found['status'] != 'consistent':
-            print(f'  model  {r["path"]}: {found["status"]}'
-                  + ('' if found['verdict'] == 'none' else f', {found["verdict"]}'))
+            print(f'  model  {r["path"]}: {diagnosis_text(found)}')
     print(f'{len(result.alerts)} alerts' + (':' if result.alerts else ''))
     for a in result.alerts:
         print(f'  ALERT  {a.text}')

@@ -10,6 +10,7 @@ import numpy as np
 
 from ..analysis.html import fmt, img, page, table
 from ..analysis.plots import _plt, _save
+from .task import diagnosis_text
 
 
 def _plot_parameter(out_dir: Path, key: str, label: str, unit: str, rows: list[dict],
@@ -79,9 +80,9 @@ def _diagnosis_cell(found: dict | None) -> str:
     """Status and verdict, the reason on hover; anything but 'consistent' stands out."""
     if not found:
         return '-'
-    text = found['status'] + ('' if found['verdict'] == 'none' else f': {found["verdict"]}')
     cls = '' if found['status'] == 'consistent' else ' class="worse"'
-    return f'<span{cls} title="{html.escape(found["reason"])}">{html.escape(text)}</span>'
+    return (f'<span{cls} title="{html.escape(found["reason"])}">'
+            f'{html.escape(diagnosis_text(found))}</span>')
 
 
 def _row_cells(row: dict, channels: list[str], diagnosed: bool = False) -> list[str]:

@@ -84,6 +84,11 @@ def _tracked(exp, config, options: TaskOptions) -> dict:
             for key, value in result.values.items()}
 
 
+def diagnosis_text(found: dict) -> str:
+    """A row's diagnosis in a few words: its status, and the verdict if one is named."""
+    return found['status'] + ('' if found['verdict'] == 'none' else f': {found["verdict"]}')
+
+
 def check_recording(recording: Recording, config: dict, options: TaskOptions,
                     key: str) -> dict:
     """One row of the fleet table (never raises for a bad recording)."""
