@@ -182,10 +182,11 @@ def test_replay_of_a_bag_with_a_controller(procs, probe, tmp_path):
             assert got[ns][0] == pytest.approx(angle, abs=1e-12) and got[ns][1] == 1.0
     pa = {x[3]: x[1] for x in probe.topics['chamber_a/pressure']}
     assert all(pa[ns] == pytest.approx(p) for ns, _, p in rows if ns in pa)
-    # in its own time, 10 ms apart, not as fast as it can: the median gap (robust to a stall
-    # of a loaded machine, which the replay catches up) and a floor on the whole span
+    # in its own time, 10 ms apart, not as fast as it can: the median gap, robust to a stall
+    # of a loaded machine, after which the replay catches up in a burst (the whole span is
+    # not: one such burst at the start once made 1.5 s of recording arrive in 1.19 s)
     recv = np.array([j[3] for j in probe.joint])
-    assert 0.005 < np.median(np.diff(recv)) < 0.02 and recv[-1] - recv[0] > 1.2
+    assert 0.005 < np.median(np.diff(recv)) < 0.02, np.diff(recv)
     # the controller ran against the recording
     assert len(probe.commands) >= 0.9 * len(rows)
     assert all(math.isfinite(c) for _, c in probe.commands)
@@ -202,8 +203,11 @@ def test_rig_path_on_the_virtual_daq(procs, probe, tmp_path):
                    virtual={'seed': 3, 'initial_angle_rad': math.radians(40.0),
                             'faults': [{'at_s': 12.0, 'kind': 'open_wire',
                                         'channel': 'chamber_b'}]})
+    # a 1 s watchdog: this test is about the rig path and the sensor fault; a controller
+    # answer 0.1 s late on a loaded machine must not trip it first (the watchdog has its
+    # own tests in test_ros_safety and test_safety_matrix)
     plant = procs.start('plant', '--backend', 'rig', '--daq', 'virtual', '--rig-config', cfg,
-                        name='rig')
+                        '--set', 'watchdog_s=1.0', name='rig')
     procs.start('controller', name='controller')
     probe.wait_diag('plant', lambda s, v: s.message == 'commanding', 60.0, what='loop')
     target = math.radians(150.0)
