@@ -11,8 +11,11 @@ chamber pressures).
 Time is the measurements' ``header.stamp``: the same law runs in lockstep sim
 time, in real time and on a replayed bag. A sample whose stamp is not newer
 than the last one handled is ignored, so a measurement sent twice (lockstep
-resend) is answered once; a stamp more than ``restart_jump_s`` older starts the
-law afresh (the plant restarted its clock). A sample whose stamp leaves the stream by
+resend) is answered once; if it is still being resent ``REANSWER_S`` after the
+answer, that answer was lost (sent before the plant's subscription matched) and
+the same command goes out again, or a lockstep plant would wait forever. A stamp
+more than ``restart_jump_s`` older starts the law afresh (the plant restarted
+its clock). A sample whose stamp leaves the stream by
 more than ``max_stamp_skew_s`` (its offset from the local monotonic clock jumps) is
 rejected and reported: one bad stamp never decides which samples count. The stream is
 judged against itself, not against the clock, so a replay of a year-old bag and a
@@ -43,6 +46,9 @@ from .common import COMMAND_QOS, SENSOR_QOS
 monotonic = time.monotonic
 #: samples in a row that must agree on a new stamp offset before the controller follows it
 REANCHOR_SAMPLES = 5
+#: [s] a sample still resent this long after its answer did not get it: answer again (a
+#: lockstep plant resends every 20 ms; an answer in flight arrives well within this)
+REANSWER_S = 0.25
 CONTROLLERS = ('pid', 'smc')
 
 
@@ -89,6 +95,7 @@ class ControllerNode(Node):
         self.m = Measurement(math.nan, math.nan)
         self._stamps = {}
         self._last_done = -1
+        self._answered_at = -math.inf
         self._pending = None
         self.ref = None
         self.trajectory = None
@@ -96,6 +103,7 @@ class ControllerNode(Node):
         self.fallbacks = 0
         self.rejected = 0
         self.restarts = 0
+        self.reanswers = 0
         self._offset = self._new_offset = None  # [ns] stamp - monotonic clock
         self._agreeing = 0
         self.last_u = math.nan
@@ -218,6 +226,8 @@ class ControllerNode(Node):
             return
         if stamp <= self._last_done:
             if self._last_done - stamp <= self.p['restart_jump_s'] * 1e9:
+                if stamp == self._last_done:
+                    self._reanswer()
                 return  # a resent or out-of-order sample: answered already
             self._restart()
         if self._pending is not None and self._pending[0] < stamp:
@@ -260,6 +270,19 @@ class ControllerNode(Node):
                                    f'({self.rejected} so far); check the sender\'s clock')
         return False
 
+    def _reanswer(self) -> None:
+        """The last sample again: if its answer went out ``REANSWER_S`` ago, it was lost;
+        send the same command again (the law is not run twice)."""
+        now = monotonic()
+        if now - self._answered_at < REANSWER_S:
+            return
+        self._answered_at = now
+        self.reanswers += 1
+        if self.reanswers == 1:
+            self.get_logger().info('a measurement was resent after its answer: the answer '
+                                   'was lost, sent again')
+        self.pub.publish(cdr.pack_float64(float(self.last_u)))
+
     def _restart(self) -> None:
         """The plant's clock went back (a restart, a replay loop): start the law afresh."""
         self.restarts += 1
@@ -300,6 +323,7 @@ class ControllerNode(Node):
             u = self.pid.update(t, ref, self.m)
         self.last_u = u
         self.pub.publish(cdr.pack_float64(float(u)))
+        self._answered_at = monotonic()
         self.commands += 1
         self.state = 'tracking'
 
@@ -335,7 +359,7 @@ class ControllerNode(Node):
                   'error_rad': ref - self.m.angle_rad,
                   'trajectory': 'active' if self.trajectory is not None else 'none',
                   'input_age_ms': age * 1e3, 'rejected_stamps': self.rejected,
-                  'restarts': self.restarts}
+                  'restarts': self.restarts, 'reanswers': self.reanswers}
         self.diag_pub.publish(common.diagnostic_array(
             self.get_clock().now().nanoseconds, f'{self.get_name()}: controller', self.joint,
             level, message, values))

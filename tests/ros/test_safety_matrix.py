@@ -196,6 +196,32 @@ def test_a_far_future_stamp_never_locks_the_controller_out(clock, procs, probe):
     assert up.poll() is None
 
 
+def test_a_lost_answer_is_sent_again_when_the_sample_is_still_resent(procs, probe):
+    """Lockstep resends an unanswered sample every 20 ms. If the answer went out before the
+    plant's subscription matched, it is lost; the controller must answer the still-resent
+    sample again, or the plant waits forever (seen once in CI: 90 s of 'waiting for the
+    first command'). Here the probe is the plant and resends the sample 0.5 s later."""
+    procs.start('controller', name='controller')
+    pub = probe.node.create_publisher(JointState, 'joint_states', 10)
+    probe.spin_until(lambda: pub.get_subscription_count() > 0
+                     and probe.node.count_publishers('valve/command') > 0, 30.0, 'controller')
+    probe.spin(0.5)  # the command subscription matched on both sides
+    sample = far_sample(0.0)
+    sample.header.stamp.nanosec = 1_000_000  # lockstep's first stamps
+    end = time.monotonic() + 10.0
+    while not probe.commands:  # resent every 20 ms until answered, as lockstep does
+        assert time.monotonic() < end, 'no answer within 10 s'
+        pub.publish(sample)
+        probe.spin(0.02)
+    probe.spin(0.5)
+    pub.publish(sample)  # still unanswered as far as this plant knows
+    probe.spin_until(lambda: len(probe.commands) >= 2, 10.0, 'the answer again')
+    assert probe.commands[1][1] == probe.commands[0][1]  # the same command, law not rerun
+    st = probe.wait_diag('controller', lambda s, v: int(v.get('reanswers', 0)) >= 1, 10.0,
+                         what='reanswers on /diagnostics')
+    assert int(probe.diag_values(st)['commands']) == 1
+
+
 # ---------------------------------------------------------------- safety parameters
 def test_safety_parameters_are_fixed_while_active(procs, probe):
     procs.start('plant', name='plant')
