@@ -17,7 +17,7 @@ from ..model.config import ModelConfig
 from .alerts import Alert, detect_alerts
 from .discover import Recording, rig_of
 from .store import RowStore
-from .task import TaskOptions, check_recording, content_key
+from .task import TaskOptions, blank_row, check_recording, content_key
 
 #: one thread per local worker process, numba's parallel batches and BLAS included: the
 #: workers already fill the cores, and more threads would only contend for them
@@ -83,9 +83,8 @@ def _lost(recording: Recording, key: str, exc: BaseException) -> dict:
     else:
         why = (f'internal error {type(exc).__name__}: {" ".join(str(exc).split())}; please '
                'report it')
-    return {'path': recording.path, 'rig': rig_of(recording, {}),
-            'start_time': None, 'key': key, 'status': 'error', 'channels': {}, 'verify': {},
-            'params': {}, 'verdict': None, 'diagnosis': None, 'error': why}
+    return {**blank_row(recording, key, rig_of(recording, {})), 'status': 'error',
+            'error': why}
 
 
 def run_fleet(recordings: list[Recording], config: ModelConfig,

@@ -89,6 +89,13 @@ def diagnosis_text(found: dict) -> str:
     return found['status'] + ('' if found['verdict'] == 'none' else f': {found["verdict"]}')
 
 
+def blank_row(recording: Recording, key: str, rig: str | None) -> dict:
+    """The row of a recording before anything is known of it (every key of the table)."""
+    return {'path': recording.path, 'rig': rig, 'start_time': None, 'key': key,
+            'status': 'ok', 'error': None, 'channels': {}, 'verify': {}, 'params': {},
+            'verdict': None, 'diagnosis': None}
+
+
 def check_recording(recording: Recording, config: dict, options: TaskOptions,
                     key: str) -> dict:
     """One row of the fleet table (never raises for a bad recording)."""
@@ -96,9 +103,7 @@ def check_recording(recording: Recording, config: dict, options: TaskOptions,
     from ..io import read_experiment
     from ..model.config import ModelConfig
     t0 = time.perf_counter()
-    row = {'path': recording.path, 'rig': recording.rig, 'start_time': None, 'key': key,
-           'status': 'ok', 'error': None, 'channels': {}, 'verify': {}, 'params': {},
-           'verdict': None, 'diagnosis': None}
+    row = blank_row(recording, key, recording.rig)
     try:
         cfg = ModelConfig.from_dict(config)
         exp = read_experiment(recording.path)

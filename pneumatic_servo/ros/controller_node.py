@@ -273,15 +273,18 @@ class ControllerNode(Node):
     def _reanswer(self) -> None:
         """The last sample again: if its answer went out ``REANSWER_S`` ago, it was lost;
         send the same command again (the law is not run twice)."""
-        now = monotonic()
-        if now - self._answered_at < REANSWER_S:
+        if monotonic() - self._answered_at < REANSWER_S:
             return
-        self._answered_at = now
         self.reanswers += 1
         if self.reanswers == 1:
             self.get_logger().info('a measurement was resent after its answer: the answer '
                                    'was lost, sent again')
-        self.pub.publish(cdr.pack_float64(float(self.last_u)))
+        self._send(self.last_u)
+
+    def _send(self, u: float) -> None:
+        """Publish command ``u`` [V] and note when (see :meth:`_reanswer`)."""
+        self.pub.publish(cdr.pack_float64(float(u)))
+        self._answered_at = monotonic()
 
     def _restart(self) -> None:
         """The plant's clock went back (a restart, a replay loop): start the law afresh."""
@@ -322,8 +325,7 @@ class ControllerNode(Node):
             self.fallbacks += 1
             u = self.pid.update(t, ref, self.m)
         self.last_u = u
-        self.pub.publish(cdr.pack_float64(float(u)))
-        self._answered_at = monotonic()
+        self._send(u)
         self.commands += 1
         self.state = 'tracking'
 
