@@ -86,6 +86,8 @@ def parse_yaml(text: str, where: str, error=ConfigError):
         mark = getattr(exc, 'problem_mark', None)
         place = f' line {mark.line + 1}' if mark else ''
         problem = getattr(exc, 'problem', None) or 'not valid YAML'
+        if problem == 'found unhashable key':       # [a, b]: or {a: 1}: where a name belongs
+            problem += ' (a list or mapping where a name belongs; write the key as text)'
         raise error(f'{where}{place}: {problem}; fix the YAML') from None
 
 

@@ -129,6 +129,18 @@ def files(tmp_path_factory):
     f['binary_yaml'].write_bytes(b'\x00\x01core: 1')
     f['int_key_yaml'] = t / 'int_key.yaml'
     f['int_key_yaml'].write_text('effects:\n  1: {}\n')
+    for key, setting, value in (('dash_bar', 'supply_pressure_pa', "'- bar'"),
+                                ('two_dots', 'supply_pressure_pa', "'1..2 MPa'"),
+                                ('e_mpa', 'supply_pressure_pa', "'e MPa'"),
+                                ('minus_degc', 'room_temperature_k', "'-degC'")):
+        f[f'{key}_yaml'] = t / f'{key}.yaml'
+        f[f'{key}_yaml'].write_text(f'core:\n  {setting}: {value}\n')
+    f['list_key_yaml'] = t / 'list_key.yaml'
+    f['list_key_yaml'].write_text('effects: {[a, b]: {}}\n')
+    f['list_item_yaml'] = t / 'list_item.yaml'
+    f['list_item_yaml'].write_text('effects:\n  - [a, b]\n')
+    f['mapping_item_yaml'] = t / 'mapping_item.yaml'
+    f['mapping_item_yaml'].write_text('effects:\n  - {external_leakage: {}}\n')
     f['held_yaml'] = t / 'held.yaml'
     f['held_yaml'].write_text('core:\n  blocked_angle_rad: 1e300\n')
     f['multiline_yaml'] = t / 'multiline.yaml'
@@ -202,6 +214,23 @@ CASES = [
      'no_such_module_xyz', []),
     # 12: tracebacks that became one line
     ('non_string_effect_key', ['compare', SINE, '--config', F('int_key_yaml')], 'name', []),
+    # item 7: unit values that are the pattern's characters but no number; non-text keys
+    ('unit_value_dash', ['compare', SINE, '--config', F('dash_bar_yaml')],
+     "core.supply_pressure_pa: cannot read '- bar'", []),
+    ('unit_value_two_dots', ['compare', SINE, '--config', F('two_dots_yaml')],
+     "two_dots.yaml: core.supply_pressure_pa: cannot read '1..2 MPa'", []),
+    ('unit_value_e', ['simulate', SINE, '--config', F('e_mpa_yaml'), '--out', Out('OUT/sim')],
+     "cannot read 'e MPa'", [Out('OUT/sim')]),
+    ('unit_value_minus_degc', ['compare', SINE, '--config', F('minus_degc_yaml')],
+     "core.room_temperature_k: cannot read '-degC'", []),
+    ('verify_limit_two_dots', ['verify', SINE, '--max-pressure-error', '1..2 kPa'],
+     '--max-pressure-error', []),
+    ('list_as_effect_key', ['compare', SINE, '--config', F('list_key_yaml')],
+     'write the key as text', []),
+    ('list_in_effect_list', ['compare', SINE, '--config', F('list_item_yaml')],
+     "effects: ['a', 'b'] is not a component name", []),
+    ('mapping_in_effect_list', ['diagnose', SINE, '--config', F('mapping_item_yaml')],
+     'is not a component name', []),
     (F('binary_csv'), ['compare', F('binary_csv')], 'binary', []),
     (F('latin1_csv'), ['compare', F('latin1_csv')], 'UTF-8', []),
     ('utf16_config', ['compare', SINE, '--config', F('utf16_yaml')], 'UTF-16', []),

@@ -98,6 +98,12 @@ def _one_line_error(data) -> str:
     ({'core': {'sleeve_bore_diameter_m': 5e-3}}, 'must exceed core.spool_diameter_m'),
     ({'effects': {'external_leakage': {'leak_area_a_m2': '1 mm'}}}, 'give a value in m^2'),
     ({'effects': {'adiabatic': {}}}, 'list it under components'),
+    ({'core': {'supply_pressure_pa': '- bar'}}, "core.supply_pressure_pa: cannot read '- bar'"),
+    ({'core': {'supply_pressure_pa': '1..2 MPa'}}, "cannot read '1..2 MPa'"),
+    ({'core': {'supply_pressure_pa': 'e MPa'}}, "cannot read 'e MPa'"),
+    ({'core': {'room_temperature_k': '..degC'}}, "core.room_temperature_k: cannot read"),
+    ({'effects': [['a', 'b']]}, "effects: ['a', 'b'] is not a component name"),
+    ({'effects': [{'external_leakage': {}}]}, 'is not a component name'),
 ])
 def test_bad_parameters_give_one_line_naming_the_fix(data, fix):
     assert fix in _one_line_error(data)

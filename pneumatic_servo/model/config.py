@@ -112,7 +112,7 @@ class ModelConfig:
         effs: dict[str, dict[str, float]] = {}
         given_effects = data.get('effects') or {}
         if isinstance(given_effects, list):
-            given_effects = {n: {} for n in given_effects}
+            given_effects = {_name(n, 'effects'): {} for n in given_effects}
         if not isinstance(given_effects, dict):
             raise ConfigError('effects: expected a mapping of effect name: parameters')
         for name, values in given_effects.items():

@@ -39,17 +39,27 @@ def to_si(value, unit: str, where: str, atmospheric_pa: float = 101325.0) -> flo
     if not isinstance(value, str):
         raise ConfigError(f'{where}: expected a number in {unit}, got {value!r}')
     text = value.strip()
+
+    def unreadable():
+        return ConfigError(f"{where}: cannot read {value!r}; write a number in {unit} "
+                           f"or a value with a unit such as '1.5 {unit}'")
+
+    def number_of(digits: str) -> float:
+        try:
+            return float(digits)
+        except ValueError:                      # '-', '1..2', 'e': the pattern's characters
+            raise unreadable() from None
+
     m_c = re.match(r'^\s*([-+0-9.eE]+)\s*degC\s*$', text)
     if m_c and unit == 'K':
-        return float(m_c.group(1)) + 273.15
+        return number_of(m_c.group(1)) + 273.15
     m = _PATTERN.match(text)
     if not m:
         try:
             return float(text)
         except ValueError:
-            raise ConfigError(f"{where}: cannot read {value!r}; write a number in {unit} "
-                              f"or a value with a unit such as '1.5 {unit}'") from None
-    number, symbol, ref = float(m.group(1)), m.group(2), m.group(3)
+            raise unreadable() from None
+    number, symbol, ref = number_of(m.group(1)), m.group(2), m.group(3)
     if symbol not in _UNITS:
         raise ConfigError(f"{where}: unknown unit {symbol!r} in {value!r}; "
                           f"{where.rsplit('.', 1)[-1]} is in {unit}")
