@@ -19,7 +19,7 @@ import pyarrow.parquet as pq
 import pytest
 
 from pneumatic_servo.fleet import detect_alerts, find_recordings
-from pneumatic_servo.fleet.alerts import FALSE_ALARM_RATE, best_change
+from pneumatic_servo.fleet.alerts import FALSE_ALARM_RATE, best_change, judge_series
 from pneumatic_servo.fleet.store import RowStore
 from pneumatic_servo.synth.fleet import FRICTION_KEY, SEAL_KEY, FleetDesign, write_fleet
 
@@ -172,6 +172,84 @@ def test_optimistic_stderr_does_not_alarm_a_healthy_rig_but_a_step_does():
     alerts = detect_alerts(rows)
     assert [(a.rig, a.kind) for a in alerts] == [('stepped', 'step')]
     assert alerts[0].since.startswith('2026-11-08')
+
+
+def daily_rows(series: dict[str, list[tuple[float, float]]], key: str = SEAL_KEY) -> list:
+    """Fleet rows, one recording a day per rig: ``rig -> [(value, stderr)]`` [SI]."""
+    return [{'rig': rig, 'path': f'{rig}/day_{day:02d}', 'status': 'ok',
+             'start_time': f'2026-11-{day + 2:02d}T08:00:00+00:00',
+             'params': {key: {'value': value, 'stderr': stderr}}}
+            for rig, points in series.items() for day, (value, stderr) in enumerate(points)]
+
+
+def test_four_daily_recordings_of_a_growing_seal_leak_alert():
+    # issue 15: 3 rigs x 4 days; the leak grows 0 -> 1.4e-8 m^2 with standard errors of
+    # about 1e-10 m^2; too few recordings to measure the scatter, 140 standard errors
+    leak = [0.0, 3.8e-9, 8.1e-9, 1.4e-8]
+    fleet = {'cell-1': [(2e-10, 1.0e-10), (-1e-10, 1.1e-10), (1e-10, 0.9e-10), (0.0, 1e-10)],
+             'cell-2': [(v, 1e-10 * (1 + 0.1 * day)) for day, v in enumerate(leak)],
+             'cell-3': [(1e-10, 1.0e-10), (0.0, 1.0e-10), (-1e-10, 1.2e-10), (1e-10, 1e-10)]}
+    for rigs in (fleet, {'cell-2': fleet['cell-2']}):  # the fleet, and the rig on its own
+        alerts = [a.to_json() for a in detect_alerts(daily_rows(rigs))]
+        assert [(a['rig'], a['parameter']) for a in alerts] == [('cell-2', SEAL_KEY)], alerts
+        alert = alerts[0]
+        assert alert['kind'] in ('trend', 'step') and alert['basis'] == 'stderr'
+        assert alert['to'] == pytest.approx(1.4e-8, rel=0.1) and alert['p_value'] < 1e-6
+        assert alert['since'].startswith('2026-11-0') and 'rose from about 0' in alert['text']
+
+
+def test_three_recordings_with_a_100_stderr_jump_alert_at_the_jump():
+    stderr = 2e-3
+    values = 1.0 + stderr * np.array([0.0, 98.0, 101.0])   # one before, two after
+    rows = daily_rows({'cell-1': [(v, stderr) for v in values]}, key='x.p')
+    alerts = detect_alerts(rows)
+    assert [(a.rig, a.kind, a.basis) for a in alerts] == [('cell-1', 'step', 'stderr')]
+    assert alerts[0].since.startswith('2026-11-03')       # the first recording after it
+    # without standard errors 3 recordings cannot tell it from scatter: no alert
+    assert detect_alerts(daily_rows({'cell-1': [(v, None) for v in values]}, 'x.p')) == []
+
+
+def test_short_series_alerts_only_where_the_fleet_shows_the_stderrs_hold():
+    # the same 3-recording jump of 100 standard errors, beside 5 rigs whose healthy values
+    # scatter by 50 of their standard errors: the standard errors are no uncertainty here
+    rng = np.random.default_rng(4)
+    stderr = 1e-3
+    jump = [(1.0, stderr), (1.1, stderr), (1.1 + 3 * stderr, stderr)]
+    wandering = {f'cell-{i}': [(1.0 + 50 * stderr * rng.normal(), stderr) for _ in range(8)]
+                 for i in range(2, 7)}
+    alerts = detect_alerts(daily_rows({'cell-1': jump, **wandering}, key='x.p'))
+    assert alerts == []
+    honest = {rig: [(1.0 + stderr * rng.normal(), stderr) for _ in range(8)]
+              for rig in wandering}
+    alerts = detect_alerts(daily_rows({'cell-1': jump, **honest}, key='x.p'))
+    assert [a.rig for a in alerts] == ['cell-1']
+
+
+def healthy_series(rng, n: int, optimism: float, missing: float):
+    """A healthy rig's estimates [SI]: standard errors that vary from day to day, a true
+    scatter ``optimism`` times larger, a share ``missing`` of them not reported (NaN)."""
+    stderr = 1e-9 * np.exp(rng.normal(0.0, 0.3, n))
+    values = 5e-8 + optimism * stderr * rng.normal(size=n)
+    stderr[rng.random(n) < missing] = np.nan
+    return values, stderr
+
+
+@pytest.mark.parametrize('optimism, missing', [(1.0, 0.0), (1.5, 0.0), (2.0, 0.0),
+                                               (1.0, 1.0), (1.5, 0.3)],
+                         ids=['honest', 'optimistic 1.5x', 'optimistic 2x', 'no stderr',
+                              'some stderr missing'])
+@pytest.mark.parametrize('lengths', [(3, 4), tuple(range(5, 13))], ids=['3-4', '5-12'])
+def test_false_alarm_rate_of_short_and_long_series_with_any_stderr(optimism, missing,
+                                                                   lengths):
+    rng = np.random.default_rng(int(100 * optimism + 10 * missing + lengths[0]))
+    trials = 3000
+    alarms = 0
+    for _ in range(trials):
+        n = int(rng.choice(lengths))
+        values, stderr = healthy_series(rng, n, optimism, missing)
+        alarms += judge_series(np.arange(n, dtype=float), values, stderr) is not None
+    margin = 3 * np.sqrt(FALSE_ALARM_RATE * (1 - FALSE_ALARM_RATE) / trials)  # sampling
+    assert alarms / trials <= FALSE_ALARM_RATE + margin
 
 
 def test_recordings_from_a_tree_a_glob_and_a_manifest(fleet, tmp_path):
