@@ -15,3 +15,8 @@ class ExperimentError(PneumaticServoError):
 
 class SimulationError(PneumaticServoError):
     """The simulation could not produce a finite, physical result."""
+
+
+class EffectError(SimulationError):
+    """A component's own code failed in a simulation (its hook raised, could not be compiled,
+    or gave NaN): the message names the component and its error."""

@@ -326,3 +326,57 @@ def test_declared_neutral_values_add_exactly_nothing(name):
     with_it = simulate(Model(ModelConfig.paper().with_effect(name, effects.get(name).neutral)),
                        t, u)
     np.testing.assert_array_equal(with_it.states[:, :N_CORE_STATES], base.states)
+
+
+def _failing_hook(t, x, s, p, P, c, dx):
+    if t > p[0]:
+        if p[1] > 0.5:
+            raise ValueError('the user table ends here')
+        c[C_TORQUE] += np.nan
+
+
+class FailingTable(Component):
+    """A user's torque table that ends: its hook raises, or gives NaN, after a time."""
+
+    name = 'test_failing_table'
+    summary = 'a torque table that ends'
+    acts_on = 'angle'
+    params = (Param('fail_after_s', 's', 0.15, 0.0, 10.0, 'when it fails'),
+              Param('raises', '1', 1.0, 0.0, 1.0, '1: raises, 0: gives NaN'))
+    mechanics = _failing_hook
+
+
+def test_a_failing_user_hook_is_named_with_its_own_error():
+    """Compiled, a hook that raises shows as the kernel's error (from the parallel batch as
+    'SystemError: CPUDispatcher(...) returned a result with an exception set') and one that
+    gives NaN as a non-finite state: both are named, with the hook's own error, wherever the
+    model runs."""
+    from pneumatic_servo.errors import EffectError, SimulationError
+    from pneumatic_servo.model import Stepper, simulate_batch
+    effects.register(FailingTable)
+    try:
+        raises = ModelConfig.paper().with_effect('test_failing_table')
+        nans = raises.with_effect('test_failing_table', {'raises': 0.0})
+        model = Model(raises)
+        t = np.arange(0.0, 0.3, 1e-3)
+        named = r"effect 'test_failing_table' \(.*FailingTable\) "
+        said = named + r'raised ValueError in its mechanics hook at t = 0\.15.*: the user table'
+        with pytest.raises(EffectError, match=said):
+            simulate(model, t, 5.3)
+        x0 = initial_state(model)
+        with pytest.raises(EffectError, match=said):  # the parallel batch
+            simulate_batch(model, t, 5.3, SUPPLY, np.array([x0, x0]),
+                           np.array([model.params, model.params]))
+        stepper = Stepper(model)
+        with pytest.raises(EffectError, match=said):  # the real-time plant
+            for _ in range(300):
+                stepper.step(5.3)
+        nan = named + r'gave NaN or inf in its mechanics hook at t = 0\.15'
+        with pytest.raises(SimulationError, match='simulation failed at t = 0.15 s: .*: ' + nan):
+            simulate(model, t, 5.3, config=nans)
+        stepper = Stepper(Model(nans))
+        with pytest.raises(SimulationError, match=nan):
+            for _ in range(300):
+                stepper.step(5.3)
+    finally:
+        effects._REGISTRY.pop('test_failing_table', None)

@@ -12,7 +12,7 @@ import numpy as np
 
 from ..effects.base import Component
 from ..effects.layout import CORE_PARAMS, CORE_STATE_ABS_TOL, CORE_STATE_NAMES, N_CORE_STATES
-from . import kernel_cache
+from . import culprit, kernel_cache
 from .config import SLOTS, ModelConfig
 
 _KERNELS: dict[tuple, dict] = {}
@@ -51,8 +51,8 @@ class Layout:
 
 def kernels_for(layout: Layout) -> dict:
     """Compiled rhs and integrators for this composition (kept per process, cached on disk)."""
-    if layout.classes not in _KERNELS:
-        _KERNELS[layout.classes] = kernel_cache.load(layout)
+    if layout.classes not in _KERNELS:  # guarded: a failing hook is named (culprit)
+        _KERNELS[layout.classes] = culprit.guarded(layout, kernel_cache.load(layout))
     return _KERNELS[layout.classes]
 
 

@@ -48,7 +48,7 @@ from ..effects.layout import (
     T_A,
     T_B,
 )
-from ..errors import SimulationError
+from ..errors import EffectError, SimulationError
 from .assembly import Model
 from .config import ModelConfig
 from .simulate import SimResult, as_model, initial_state, simulate
@@ -347,6 +347,8 @@ def predict_static(model, exp, config: ModelConfig | None = None) -> dict[str, n
         try:
             vals = steady_outputs(model, exp.circuit, float(volts[i]), float(supplies[i]),
                                   row_cfg)
+        except EffectError:
+            raise  # a component's own code failed: no row would do better
         except (SimulationError, ValueError, RuntimeError):
             continue  # a row the model cannot reach reads as a failed prediction
         for k in names:

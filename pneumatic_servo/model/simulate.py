@@ -25,6 +25,7 @@ from ..effects.layout import (
     THETA,
 )
 from ..errors import SimulationError
+from . import culprit
 from .assembly import Model
 from .config import ModelConfig
 from .integrators import STEP_CAP
@@ -223,13 +224,14 @@ def simulate(model=None, t=None, command_v=5.0, supply_pa=None, x0=None,
         raise SimulationError(f'initial state needs {model.n_states} values '
                               f'({", ".join(model.state_names)})')
     P = model.param_vector(cfg)
-    X = np.empty((len(t), model.n_states))
+    X = np.full((len(t), model.n_states), np.nan)  # NaN: the rows recorded show a failure's place
     Y = np.empty((len(t), len(OUTPUT_NAMES)))
-    status, k = model.kernels['run'](x0, t, u_valve, ps, P, CIRCUITS[circuit],
-                                     method == 'adaptive', rtol, model.abs_tol * atol_scale,
-                                     int(substeps), X, Y)
+    args = (x0, t, u_valve, ps, P, CIRCUITS[circuit], method == 'adaptive', rtol,
+            model.abs_tol * atol_scale, int(substeps))
+    status, k = model.kernels['run'](*args, X, Y)
     if status != 0:
-        raise SimulationError(f'simulation failed at t = {t[k]:.6g} s: {_STATUS[status]}')
+        why = culprit.explain_status(model.layout, *args, X)  # which hook, if one is to blame
+        raise SimulationError(f'simulation failed at t = {t[k]:.6g} s: {_STATUS[status]}{why}')
     if measured:
         X = delayed(t, measured_states(model, cfg, t, X, u_valve, ps), d_out)
     return SimResult(t, X, model.state_names, Y, circuit,
@@ -249,7 +251,7 @@ def simulate_batch(model: Model, t, command_v, supply_pa, x0s, param_matrix,
     U = np.ascontiguousarray(np.broadcast_to(command_v, (m, len(t))), dtype=float)
     PS = np.ascontiguousarray(np.broadcast_to(supply_pa, (m, len(t))), dtype=float)
     X0 = np.ascontiguousarray(np.broadcast_to(x0s, (m, model.n_states)), dtype=float)
-    XB = np.empty((m, len(t), model.n_states))
+    XB = np.full((m, len(t), model.n_states), np.nan)  # a failed row shows where it stopped
     YB = np.empty((m, len(t), len(OUTPUT_NAMES)))
     status = np.zeros(m, dtype=np.int64)
     model.kernels['run_batch'](X0, t, U, PS, pm, CIRCUITS[circuit], method == 'adaptive',
@@ -308,12 +310,13 @@ class Stepper:
         self._cmd.append(float(command_v))
         u = self._cmd.pop(0)
         k = self.model.kernels
+        t0, x0 = self.t, self.x.copy()
         if self.method == 'fixed':
             status = k['fixed_interval'](self.t, self.x, u, self.supply_pa, self.params,
                                          self.circuit, self.period_s, self.substeps, self._c,
                                          self._w)
         else:
-            before = self.x.copy()
+            before = x0
             k['rhs'](self.t, self.x, u, self.supply_pa, self.params, self.circuit, self._c,
                      self._w[0])
             status, self._dt = k['adaptive_interval'](
@@ -328,7 +331,12 @@ class Stepper:
                                              self.circuit, self.period_s, 4 * self.substeps,
                                              self._c, self._w)
         if status != 0:
-            raise SimulationError(f'stepper failed at t = {self.t:.6g} s: {_STATUS[status]}')
+            why = culprit.explain_status(
+                self.model.layout, x0, np.array([t0, t0 + self.period_s]), np.array([u, u]),
+                np.array([self.supply_pa] * 2, float), self.params, self.circuit,
+                self.method == 'adaptive', self.rtol, self._atol, self.substeps)
+            raise SimulationError(f'stepper failed at t = {self.t:.6g} s: {_STATUS[status]}'
+                                  f'{why}')
         self.t += self.period_s
         self._hist.append(self.x.copy())
         self._hist.pop(0)

@@ -3,9 +3,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..effects.layout import OMEGA, P_A, P_B, T_A, T_B, THETA
+from ..effects.layout import CIRCUITS, OMEGA, P_A, P_B, T_A, T_B, THETA
 from ..errors import ExperimentError, SimulationError
 from ..experiment import Experiment
+from ..model import culprit
 from ..model.assembly import Model
 from ..model.circuits import predict_static
 from ..model.config import ModelConfig
@@ -50,9 +51,14 @@ def predict(model: Model, exp: Experiment, configs: list[ModelConfig], plan: Pla
         :data:`STATE_SIGNALS`; NaN outside the plan's segments). A config whose
         simulation fails gets NaN throughout.
     """
+    return _predict(model, exp, configs, plan, rtol)[0]
+
+
+def _predict(model, exp, configs, plan, rtol):
+    """:func:`predict`, and a function that says why a config's simulation failed."""
     cfgs = [config_for(exp, cfg) for cfg in configs]
     if exp.static:
-        return [predict_static(model, exp, cfg) for cfg in cfgs]
+        return [predict_static(model, exp, cfg) for cfg in cfgs], (lambda j: '')
     _check(exp)
     plan = plan or open_loop(exp)
     signals = smoothed_signals(exp) if plan.smooth_start else exp.signals
@@ -80,7 +86,19 @@ def predict(model: Model, exp: Experiment, configs: list[ModelConfig], plan: Pla
                 X[a:b] = delayed(tw[:b - a], XB[r, :b - a], d_outs[j])
             X = measured_states(model, cfgs[j], exp.t, X, us[j], pss[j])
         out.append({name: X[:, idx] for name, idx in STATE_SIGNALS.items()})
-    return out
+
+    def why(j: int) -> str:
+        """'' or ': ' + the component whose hook made config ``j``'s first failed segment
+        fail (replayed in plain Python: the error path only)."""
+        for i, (a, _) in enumerate(segs):
+            r = j * len(segs) + i
+            if status[r] != 0:
+                return culprit.explain_status(
+                    model.layout, X0[r], tw, windows(win, segs, us)[r],
+                    windows(win, segs, pss)[r], P[r], CIRCUITS[exp.circuit], True, rtol,
+                    model.abs_tol, 10, XB[r], t_offset=exp.t[a] - exp.t[0])
+        return ''
+    return out, why
 
 
 def predict_checked(model: Model, exp: Experiment, config: ModelConfig | None = None,
@@ -88,7 +106,9 @@ def predict_checked(model: Model, exp: Experiment, config: ModelConfig | None = 
                     ) -> dict[str, np.ndarray]:
     """Predicted signals of one experiment (see :func:`predict`); raises if the model could
     not be simulated over it."""
-    pred = predict(model, exp, [config or model.config], plan, rtol)[0]
+    preds, why = _predict(model, exp, [config or model.config], plan, rtol)
+    pred = preds[0]
     if any(np.isnan(v).all() for v in pred.values()):
-        raise SimulationError(f'{exp.name}: the model could not be simulated over this record')
+        raise SimulationError(f'{exp.name}: the model could not be simulated over this '
+                              f'record{why(0)}')
     return pred
