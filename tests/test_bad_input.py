@@ -32,6 +32,41 @@ def run(*argv, cwd):
 
 
 # ------------------------------------------------------------------------- the files
+#: a user's own effects (README, "Components and effects") whose hooks fail
+USER_EFFECTS = """
+from pneumatic_servo.effects import Component, Param
+from pneumatic_servo.effects.layout import C_TORQUE, THETA
+
+
+def _table(t, x, s, p, P, c, dx):
+    if x[THETA] > 0.5:
+        raise ValueError('my torque table ends at 0.5 rad')
+    c[C_TORQUE] += p[0]
+
+
+def _root(t, x, s, p, P, c, dx):
+    c[C_TORQUE] += p[0] * (x[THETA] - 4.0) ** 0.5      # NaN below 4 rad: everywhere
+
+
+class Helper:
+    gain = 2.0
+
+
+def _object(t, x, s, p, P, c, dx):
+    c[C_TORQUE] += p[0] * Helper().gain                 # numba cannot compile a class
+
+
+def _effect(name, hook):
+    return type(name, (Component,), dict(
+        name=name.lower() + '_effect', summary=name, acts_on='angle', mechanics=hook,
+        params=(Param('torque_n_m', 'N.m', 0.05, 0.0, 5.0, 'a torque'),)))
+
+
+Table, Root, Uncompilable = (_effect('Table', _table), _effect('Root', _root),
+                             _effect('Uncompilable', _object))
+"""
+
+
 def bag_with(tmp: Path, name: str, change, source: Path = BAGS / 'sine_2hz') -> Path:
     """A copy of ``source`` with its signals changed by ``change(signals, metadata)``."""
     exp = read_experiment(source)
@@ -86,6 +121,13 @@ def files(tmp_path_factory):
         angle_rad=np.degrees(s['angle_rad'])))
     f['huge_angle_bag'] = bag_with(t, 'huge_angle', lambda s, m: s.update(
         angle_rad=np.full_like(s['angle_rad'], 1e300)))
+    # item 7: impossible only for the whole record, so no range check decides them
+    f['gauge_whole_bag'] = bag_with(t, 'gauge_whole', lambda s, m: s.update(
+        p_a_pa=s['p_a_pa'] - 5.2e5, p_b_pa=s['p_b_pa'] - 5.2e5))  # 63 to 84 kPa throughout
+    f['supply_below_bag'] = bag_with(t, 'supply_below', lambda s, m: s.update(
+        supply_pa=np.full_like(s['p_a_pa'], 5.5e5)))  # both chambers above it throughout
+    f['negative_bag'] = bag_with(t, 'negative', lambda s, m: s.update(
+        p_a_pa=s['p_a_pa'] - 7e5))
     f['held_bag'] = bag_with(t, 'held', lambda s, m: m.update(blocked_angle_rad=1e300))
     custom_list = bag_copy(t, 'custom_list')
     meta = (custom_list / 'metadata.yaml').read_text()
@@ -112,6 +154,9 @@ def files(tmp_path_factory):
     f['kpa_csv'] = csv_with(t, 'kpa.csv', [f'closed_port,{v:.2f},701.3,{400 + 10 * i:.1f}'
                                            for i, v in enumerate(np.linspace(4, 6, 11))],
                             header='circuit,voltage_v,supply_pa,p_a_pa')
+    f['above_supply_csv'] = csv_with(t, 'above_supply.csv', [
+        f'closed_port,{v:.2f},601325,{651325 + 1000 * i}'
+        for i, v in enumerate(np.linspace(4, 6, 11))], header='circuit,voltage_v,supply_pa,p_a_pa')
     big = t / 'big.csv'
     with big.open('w') as out:
         out.write('circuit,voltage_v,supply_pa,p_a_pa\n')
@@ -150,6 +195,11 @@ def files(tmp_path_factory):
     broken_module = t / 'broken_effect.py'
     broken_module.write_text('import no_such_dependency_xyz\n')
     f['broken_module'] = broken_module
+    user_effects = t / 'user_effects.py'
+    user_effects.write_text(USER_EFFECTS)
+    f['user_effects'] = user_effects
+    f['user_effect_yaml'] = t / 'user_effect.yaml'
+    f['user_effect_yaml'].write_text(f"effects:\n  '{user_effects}:Uncompilable': {{}}\n")
     f['fifo_yaml'] = fifo(t, 'cfg.yaml')
     f['a_file'] = t / 'a_file.txt'
     f['a_file'].write_text('x')
@@ -184,6 +234,22 @@ CASES = [
     ('held_angle_1e300', ['compare', F('held_bag')], 'blocked_angle_rad', []),
     ('csv_pressure_in_kpa', ['compare', F('kpa_csv')], 'absolute Pa', []),
     ('config_held_angle', ['compare', SINE, '--config', F('held_yaml')], 'blocked_angle_rad', []),
+    # item 7: impossible for the whole record, each signal within its range; every verb
+    ('gauge_whole_record', ['compare', F('gauge_whole_bag')], 'gauge readings?', []),
+    ('gauge_whole_record_verify', ['verify', F('gauge_whole_bag')],
+     'below the atmosphere (101325 Pa) in every sample', []),
+    ('gauge_whole_record_simulate', ['simulate', F('gauge_whole_bag'), '--out', Out('OUT/sim')],
+     'add the atmospheric pressure', [Out('OUT/sim')]),
+    ('gauge_whole_record_diagnose', ['diagnose', F('gauge_whole_bag')], 'gauge readings?', []),
+    ('chambers_above_supply', ['compare', F('supply_below_bag')],
+     'chamber_a/pressure is above supply/pressure in every sample', []),
+    ('closed_port_above_supply', ['compare', F('above_supply_csv')],
+     'supply recorded as gauge?', []),
+    ('closed_port_above_supply_identify', ['identify', F('above_supply_csv'), '--out',
+                                           Out('OUT/id.yaml')], 'above supply/pressure',
+     [Out('OUT/id.yaml')]),
+    ('negative_pressure', ['simulate', F('negative_bag'), '--out', Out('OUT/sim')],
+     'never negative: gauge readings', [Out('OUT/sim')]),
     # 7: an unclosed writer's WAL
     ('unmerged_wal', ['compare', F('wal_bag')], 'write-ahead log', []),
     # 8: checks with nothing to check
@@ -212,6 +278,20 @@ CASES = [
      'no_such_dependency_xyz', []),
     ('config_names_unknown_module', ['compare', SINE, '--config', F('badmod_yaml')],
      'no_such_module_xyz', []),
+    # item 7: a user's effect whose hook raises, yields NaN or cannot be compiled is named
+    ('user_hook_raises', ['compare', SINE, '--effects', F('user_effects', ':Table')],
+     "effect 'table_effect' (", []),
+    ('user_hook_raises_own_error', ['compare', SINE, '--effects', F('user_effects', ':Table')],
+     'raised ValueError in its mechanics hook at t = 0 s', []),
+    ('user_hook_raises_own_message', ['diagnose', SINE, '--effects',
+                                      F('user_effects', ':Table')],
+     'my torque table ends at 0.5 rad', []),
+    ('user_hook_nan', ['simulate', SINE, '--effects', F('user_effects', ':Root'), '--out',
+                       Out('OUT/sim')], "effect 'root_effect' (", [Out('OUT/sim')]),
+    ('user_hook_nan_in_stage', ['compare', SINE, '--effects', F('user_effects', ':Root')],
+     'gave NaN or inf in its mechanics hook', []),
+    ('user_hook_uncompilable', ['compare', SINE, '--config', F('user_effect_yaml')],
+     "effect 'uncompilable_effect' (", []),
     # 12: tracebacks that became one line
     ('non_string_effect_key', ['compare', SINE, '--config', F('int_key_yaml')], 'name', []),
     # item 7: unit values that are the pattern's characters but no number; non-text keys
@@ -296,3 +376,35 @@ def test_yaml_numbers_without_a_dot_are_numbers(tmp_path):
     loaded = ModelConfig.load(cfg)
     assert loaded.get('external_leakage.leak_area_a_m2') == 1e-8
     assert loaded.core['supply_pressure_pa'] == 7e5
+
+
+@pytest.mark.parametrize('key, words', [('negative_bag', 'never negative'),
+                                        ('gauge_whole_bag', 'gauge readings?')])
+def test_a_replay_refuses_what_simulate_refuses(key, words, files, tmp_path):
+    """The plant's replay backend reads through ``io.read_series`` (each signal on its own
+    stamps): it refuses an impossible bag with the same reason, before anything is
+    published."""
+    pytest.importorskip('rclpy')
+    proc = run('plant', '--backend', 'replay', '--bag', files[key], '--duration', '5',
+               cwd=tmp_path)
+    assert proc.returncode == 2, (proc.returncode, proc.stderr[-2000:])
+    assert 'Traceback' not in proc.stderr
+    line = proc.stderr.strip().splitlines()[-1]  # after the node's own log line
+    assert line.startswith('pneumatic-servo plant: error:') and words in line, proc.stderr
+
+
+def test_physical_moments_are_not_refused(tmp_path):
+    """What a whole record cannot be, a moment can: a chamber pulled below the atmosphere in
+    a fast move, a chamber above the supply while the supply drops; and a rig at altitude
+    with a chamber vented all along (the other is charged)."""
+    def change(s, m):
+        s['p_b_pa'][100:150] = 0.6e5                      # a vacuum pull, 50 ms
+        s['supply_pa'][200:400] = s['p_a_pa'][200:400] - 2e4   # a supply dip under chamber a
+    read_experiment(bag_with(tmp_path, 'moments', change))
+    read_experiment(bag_with(tmp_path, 'altitude', lambda s, m: s.update(
+        p_b_pa=np.full_like(s['p_b_pa'], 0.795e5))))      # 2000 m: b vented throughout
+    from pneumatic_servo.io import read_series
+    from pneumatic_servo.io.validate import check_series
+    path = tmp_path / 'moments'
+    series, meta = read_series(path)
+    check_series(str(path), series, meta)

@@ -109,6 +109,9 @@ PHYSICAL = {
 def _likely_cause(sig: str, lo: float, hi: float) -> str:
     """What a reading outside the physical range most likely is, from its range of values."""
     if sig.endswith('_pa'):
+        if lo < 0.0 and hi < 1.3e6:
+            return ('an absolute pressure is never negative: gauge readings (or a transmitter '
+                    'offset)? the contract is absolute Pa (add 101325 to gauge)')
         if hi < 2e4 and lo > 10.0:
             return 'looks like kPa; the contract is absolute Pa'
         if hi < 50.0:
@@ -129,16 +132,10 @@ def _likely_cause(sig: str, lo: float, hi: float) -> str:
 
 def check_physical(where: str, signals: dict, metadata: dict | None = None) -> None:
     """Raise if a signal (or the held angle of a blocked record) is outside what a rig can
-    show, naming the likely cause (a unit, gauge instead of absolute pressure)."""
-    for sig, (low, high, what) in PHYSICAL.items():
-        values = signals.get(sig)
-        if values is None or not len(values):
-            continue
-        lo, hi = float(np.min(values)), float(np.max(values))
-        if lo < low or hi > high:
-            raise ExperimentError(
-                f'{where}: {what} is {lo:.4g} to {hi:.4g} ({sig}), outside the possible '
-                f'{low:g} to {high:g}: {_likely_cause(sig, lo, hi)}')
+    show, or if the signals together are impossible for the whole record (see
+    :func:`check_consistent`), naming the likely cause (a unit, gauge instead of absolute
+    pressure)."""
+    _check_ranges(where, signals)
     held = (metadata or {}).get('blocked_angle_rad')
     if held is not None:
         try:
@@ -148,3 +145,84 @@ def check_physical(where: str, signals: dict, metadata: dict | None = None) -> N
         if not ok:
             raise ExperimentError(f'{where}: blocked_angle_rad = {held!r} in the custom data; '
                                   'give the angle the pistons are held at, 0 to 6.5 rad')
+    check_consistent(where, {sig: (None, v) for sig, v in signals.items()})
+
+
+def check_series(where: str, series: dict, metadata: dict | None = None) -> None:
+    """:func:`check_physical` for measurements on their own stamps, ``{signal: (stamps [ns],
+    values)}`` as :func:`~pneumatic_servo.io.read_series` gives them (a replay): the ranges
+    on every value, the checks across signals with each compared at the other's stamps."""
+    _check_ranges(where, {sig: values for sig, (_, values) in series.items()})
+    check_consistent(where, series)
+
+
+def _check_ranges(where: str, signals: dict) -> None:
+    for sig, (low, high, what) in PHYSICAL.items():
+        values = signals.get(sig)
+        if values is None or not len(values):
+            continue
+        lo, hi = float(np.min(values)), float(np.max(values))
+        if lo < low or hi > high:
+            raise ExperimentError(
+                f'{where}: {what} is {lo:.4g} to {hi:.4g} ({sig}), outside the possible '
+                f'{low:g} to {high:g}: {_likely_cause(sig, lo, hi)}')
+
+
+# ------------------------------------------------------------ consistency across signals
+#: [Pa] the standard atmosphere: a chamber is vented to it or charged above it
+ATMOSPHERE_PA = 101325.0
+#: a chamber reads above the supply in every sample by more than this fraction of the supply
+#: plus ``ABOVE_SUPPLY_PA`` [Pa] (transmitter noise and offsets are ~0.1-0.5 % of full scale)
+ABOVE_SUPPLY_FRACTION, ABOVE_SUPPLY_PA = 0.005, 2000.0
+_CHAMBERS = (('p_a_pa', 'chamber_a/pressure'), ('p_b_pa', 'chamber_b/pressure'))
+
+
+def check_consistent(where: str, series: dict) -> None:
+    """Raise if the signals together are impossible for the whole record, where each alone is
+    within its range. ``series``: ``{signal: (stamps or None, values)}`` (None: all on one
+    time base).
+
+    Only whole-record conditions are refused; each can happen for a moment and is then
+    legitimate:
+
+    * every recorded chamber below the atmosphere in every sample: a chamber is vented to the
+      atmosphere or charged above it; it pulls a vacuum only briefly, in a fast move. Readings
+      gauge, recorded as absolute, look like this.
+    * a chamber above the supply in every sample: gas reaches a chamber only from the supply
+      (a chamber held while the supply drops, or compressed by a fast move, is above it for a
+      while). A supply recorded as gauge beside absolute chambers, or swapped topics, look
+      like this.
+    """
+    chambers = [(sig, what) for sig, what in _CHAMBERS
+                if sig in series and len(series[sig][1])]
+    if chambers and all(float(np.max(series[sig][1])) < ATMOSPHERE_PA for sig, _ in chambers):
+        seen = ' and '.join(f'{what} {float(np.min(series[sig][1])) / 1e3:.4g} to '
+                            f'{float(np.max(series[sig][1])) / 1e3:.4g} kPa'
+                            for sig, what in chambers)
+        raise ExperimentError(
+            f'{where}: {seen}: below the atmosphere ({ATMOSPHERE_PA:g} Pa) in every sample, '
+            'which no chamber is for a whole record (it is vented or charged): gauge readings? '
+            'the contract is absolute Pa; add the atmospheric pressure to the readings')
+    if 'supply_pa' not in series or not len(series['supply_pa'][1]):
+        return
+    s_stamps, supply = series['supply_pa']
+    for sig, what in chambers:
+        stamps, values = series[sig]
+        if stamps is not None and s_stamps is not None:
+            if len(s_stamps) < 2:
+                continue
+            supply_at = np.interp(stamps, s_stamps, supply)
+        elif stamps is None and s_stamps is None and len(supply) == len(values):
+            supply_at = supply
+        else:
+            continue
+        excess = values - supply_at
+        margin = ABOVE_SUPPLY_FRACTION * supply_at + ABOVE_SUPPLY_PA
+        if len(excess) and np.all(excess > margin):
+            raise ExperimentError(
+                f'{where}: {what} is above supply/pressure in every sample (by '
+                f'{float(np.min(excess)) / 1e3:.4g} to {float(np.max(excess)) / 1e3:.4g} kPa), '
+                'which no chamber is for a whole record (it is fed from the supply): the '
+                'supply recorded as gauge? the contract is absolute Pa for both; add the '
+                'atmospheric pressure to the supply readings, or check that the topics (CSV '
+                'columns) are not swapped')

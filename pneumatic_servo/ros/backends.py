@@ -20,6 +20,7 @@ from ..control.measurement import Measurement
 from ..errors import ConfigError, ExperimentError
 from ..io import read_series
 from ..io.topics import CELSIUS_K, SIGNAL_TOPIC
+from ..io.validate import check_series
 
 JOINT_STATES = SIGNAL_TOPIC['angle_rad']
 PRESSURE_A, PRESSURE_B, PRESSURE_SUPPLY = (SIGNAL_TOPIC[s] for s in ('p_a_pa', 'p_b_pa',
@@ -175,7 +176,8 @@ def read_replay_events(path, joint_name: str) -> list[ReplayEvent]:
     Temperatures go out in degC, as ``sensor_msgs/Temperature`` carries them. Raises
     ExperimentError with the fix.
     """
-    series, _ = read_series(path, joint=joint_name)
+    series, meta = read_series(path, joint=joint_name)
+    check_series(str(path), series, meta)  # as analysis refuses it: units, gauge, ranges
     if 'angle_rad' not in series:
         raise ExperimentError(f'bag {path} has no joint_states of joint {joint_name!r}; record '
                               'joint_states (and the pressures) to replay it')
