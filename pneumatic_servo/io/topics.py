@@ -30,7 +30,9 @@ class Topic:
     ``stamped`` topics carry the measurement time in ``header.stamp``; the
     others (``std_msgs/Float64``) are timed by their record time.
     ``hold`` signals are commands, held between samples (zero-order hold);
-    the others are measurements, interpolated linearly.
+    the others are measurements, interpolated linearly. ``fields`` are the
+    message fields that carry ``signals`` (one each), in the message's unit:
+    the signal [SI] is the field plus ``offset``.
     """
 
     name: str
@@ -38,17 +40,30 @@ class Topic:
     signals: tuple[str, ...]
     stamped: bool
     hold: bool = False
+    fields: tuple[str, ...] = ('data',)
+    offset: float = 0.0
+
+    @property
+    def codec(self):
+        """The batch CDR codec of this topic's message type (:mod:`.codecs`)."""
+        from .codecs import CODECS
+        return CODECS[self.msgtype]
 
 
 TOPICS = {t.name: t for t in (
     Topic('valve/command', FLOAT64, ('command_v',), stamped=False, hold=True),
     Topic('joint_states', JOINT_STATE, ('angle_rad', 'velocity_rad_s', 'effort_n_m'),
-          stamped=True),
-    Topic('chamber_a/pressure', FLUID_PRESSURE, ('p_a_pa',), stamped=True),
-    Topic('chamber_b/pressure', FLUID_PRESSURE, ('p_b_pa',), stamped=True),
-    Topic('supply/pressure', FLUID_PRESSURE, ('supply_pa',), stamped=True),
-    Topic('chamber_a/temperature', TEMPERATURE, ('t_a_k',), stamped=True),
-    Topic('chamber_b/temperature', TEMPERATURE, ('t_b_k',), stamped=True),
+          stamped=True, fields=('position', 'velocity', 'effort')),
+    Topic('chamber_a/pressure', FLUID_PRESSURE, ('p_a_pa',), stamped=True,
+          fields=('fluid_pressure',)),
+    Topic('chamber_b/pressure', FLUID_PRESSURE, ('p_b_pa',), stamped=True,
+          fields=('fluid_pressure',)),
+    Topic('supply/pressure', FLUID_PRESSURE, ('supply_pa',), stamped=True,
+          fields=('fluid_pressure',)),
+    Topic('chamber_a/temperature', TEMPERATURE, ('t_a_k',), stamped=True,
+          fields=('temperature',), offset=CELSIUS_K),
+    Topic('chamber_b/temperature', TEMPERATURE, ('t_b_k',), stamped=True,
+          fields=('temperature',), offset=CELSIUS_K),
     # the controller's target (closed-loop records)
     Topic('setpoint', FLOAT64, ('setpoint_rad',), stamped=False, hold=True),
 )}
