@@ -31,7 +31,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy.optimize import brentq, root
 
 from ..effects.layout import (
     C_ISOTHERMAL,
@@ -106,6 +105,7 @@ def _solve_pressure(model, P, x, voltage_v, supply_pa, circuit, pe, chamber=0) -
         raise SimulationError(f'no steady chamber-a pressure between {lo:.6g} and {hi:.6g} Pa '
                               f'at {voltage_v:g} V; check the model parameters')
     # converged to rounding: near pressure ratio 1 the flow is steep in p_a
+    from scipy.optimize import brentq  # 0.16 s of import: only static circuits need it
     return brentq(f, lo, hi, xtol=1e-9, rtol=4 * np.finfo(float).eps, maxiter=500)
 
 
@@ -119,6 +119,7 @@ def _solve_temperature(model, P, x, voltage_v, supply_pa, circuit, temps) -> flo
     g_lo, g_hi = g(lo), g(hi)
     if g_lo * g_hi > 0.0:
         return x[T_A]
+    from scipy.optimize import brentq
     return brentq(g, lo, hi, xtol=1e-10, maxiter=200)
 
 
@@ -159,6 +160,7 @@ def _polish(model, P, x, voltage_v, supply_pa, circuit, free) -> np.ndarray:
         xt[free] = z * scale
         return _evaluate(model, P, xt, voltage_v, supply_pa, circuit)[1][free] / scale
 
+    from scipy.optimize import root
     sol = root(resid, x[free] / scale, method='hybr', options={'xtol': 1e-12})
     out = x.copy()
     out[free] = sol.x * scale
