@@ -218,3 +218,49 @@ def test_every_topic_has_its_codec():
     for topic in TOPICS.values():
         assert topic.codec.msgtype == topic.msgtype
         assert set(topic.fields) <= set(topic.codec.fields)
+
+
+@pytest.mark.parametrize('storage, compress', [('mcap', False), ('mcap', True),
+                                               ('sqlite3', False)])
+def test_bulk_writing_gives_the_files_of_message_by_message(tmp_path, monkeypatch, storage,
+                                                            compress):
+    """The bulk path of storage.write_samples (MCAP chunks cut where rosbags cuts them, its
+    chunk index and statistics; sqlite3 rows at once) against rosbags' own write per
+    message: the same files, byte for byte (MCAP) or row for row (sqlite3)."""
+    import sqlite3
+
+    from pneumatic_servo.experiment import Experiment
+    from pneumatic_servo.io import write_experiment_bag
+    from pneumatic_servo.io.bag import storage as disk
+    n = 12_000  # 60,000 messages: four chunks of 1 MiB and a part
+    t = np.arange(n) * 1e-3
+    rng = np.random.default_rng(3)
+    exp = Experiment(t, {'command_v': 5 + rng.normal(size=n), 'angle_rad': 1 + 0 * t,
+                         'velocity_rad_s': rng.normal(size=n), 'p_a_pa': 3e5 + t,
+                         'p_b_pa': 3e5 - t, 't_a_k': 293 + t, 'supply_pa': 7e5 + 0 * t},
+                     'servo', 'bulk')
+    kinds = []
+    real = disk._bulk_kind
+    monkeypatch.setattr(disk, '_bulk_kind', lambda *a: kinds.append(real(*a)) or kinds[-1])
+    bulk = write_experiment_bag(exp, tmp_path / 'bulk' / 'bag', storage, compress=compress)
+    assert kinds == [storage]
+    monkeypatch.setattr(disk, '_bulk_kind', lambda writer, columns: None)
+    single = write_experiment_bag(exp, tmp_path / 'single' / 'bag', storage,
+                                  compress=compress)
+    assert (bulk / 'metadata.yaml').read_text() == (single / 'metadata.yaml').read_text()
+    if storage == 'mcap':
+        a, b = (next(p.glob('*.mcap')).read_bytes() for p in (bulk, single))
+        assert a == b
+    else:
+        def rows(path):
+            with sqlite3.connect(next(path.glob('*.db3'))) as db:
+                return db.execute('SELECT id, topic_id, timestamp, data FROM messages '
+                                  'ORDER BY id').fetchall()
+        assert rows(bulk) == rows(single)
+
+
+def test_definitions_are_rosbags():
+    """A bag is written with the codecs' definitions and hashes, not rosbags' typestore."""
+    for msgtype, codec in CODECS.items():
+        assert codec.definition == typestore().generate_msgdef(msgtype, ros_version=2)[0]
+        assert codec.rihs01 == typestore().hash_rihs01(msgtype)

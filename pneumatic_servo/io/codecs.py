@@ -26,6 +26,11 @@ from . import cdr
 from .topics import FLOAT64, FLUID_PRESSURE, JOINT_STATE, TEMPERATURE
 
 _TYPESTORE = None
+_SEP = '=' * 80 + '\n'
+#: the std_msgs/Header and builtin_interfaces/Time a stamped message's definition ends with
+_HEADER_DEFINITIONS = (_SEP + 'MSG: std_msgs/Header\nbuiltin_interfaces/Time stamp\n'
+                       'string frame_id\n' + _SEP + 'MSG: builtin_interfaces/Time\nint32 sec\n'
+                       'uint32 nanosec\n')
 
 
 def typestore():
@@ -156,11 +161,22 @@ def _split(rows: np.ndarray) -> list[bytes]:
 
 
 class Codec:
-    """The batch codec of one message type (a subclass per layout)."""
+    """The batch codec of one message type (a subclass per layout). Besides decoding and
+    encoding, it knows its type's definition as rosbag2 stores it with a connection (its
+    own fields' ``lines`` after the header, and the ``rihs01`` type hash), so a bag is
+    written without building rosbags' typestore (tests/test_codecs.py checks both)."""
 
     msgtype: str
     fields: tuple[str, ...]
     stamped = True
+    lines: tuple[str, ...]
+    rihs01: str
+
+    @property
+    def definition(self) -> str:
+        """The message definition (ros2msg) rosbag2 stores with a connection."""
+        own = ''.join(line + '\n' for line in self.lines)
+        return 'std_msgs/Header header\n' + own + _HEADER_DEFINITIONS if self.stamped else own
 
     def layout(self, raw) -> Layout:
         raise NotImplementedError
@@ -194,6 +210,8 @@ class Float64Codec(Codec):
     """std_msgs/Float64: 8 bytes after the encapsulation, no header."""
 
     msgtype, fields, stamped = FLOAT64, ('data',), False
+    lines = ('float64 data',)
+    rihs01 = 'RIHS01_705ba9c3d1a09df43737eb67095534de36fd426c0587779bda2bc51fe790182a'
 
     def layout(self, raw) -> Layout:
         p = _Parser(raw)
@@ -222,8 +240,9 @@ class Float64Codec(Codec):
 class ScalarCodec(Codec):
     """sensor_msgs/FluidPressure or Temperature: a header, then the value and a variance."""
 
-    def __init__(self, msgtype: str, name: str):
-        self.msgtype, self.fields = msgtype, (name, 'variance')
+    def __init__(self, msgtype: str, name: str, rihs01: str):
+        self.msgtype, self.fields, self.rihs01 = msgtype, (name, 'variance'), rihs01
+        self.lines = tuple(f'float64 {f}' for f in self.fields)
 
     def layout(self, raw) -> Layout:
         p = _Parser(raw)
@@ -269,6 +288,8 @@ class JointStateCodec(Codec):
     of the actuator joint (or raises), called in message order as the names change."""
 
     msgtype, fields = JOINT_STATE, ('position', 'velocity', 'effort')
+    lines = ('string[] name', 'float64[] position', 'float64[] velocity', 'float64[] effort')
+    rihs01 = 'RIHS01_a13ee3a330e346c9d87b5aa18d24e11690752bd33a0350f11c5882bc9179260e'
 
     def layout(self, raw) -> Layout:
         p = _Parser(raw)
@@ -359,5 +380,9 @@ def _fill(rows: np.ndarray, offset: int, values) -> None:
 
 #: message type -> its batch codec
 CODECS: dict[str, Codec] = {c.msgtype: c for c in (
-    Float64Codec(), ScalarCodec(FLUID_PRESSURE, 'fluid_pressure'),
-    ScalarCodec(TEMPERATURE, 'temperature'), JointStateCodec())}
+    Float64Codec(),
+    ScalarCodec(FLUID_PRESSURE, 'fluid_pressure',
+                'RIHS01_22dfb2b145a0bd5a31a1ac3882a1b32148b51d9b2f3bab250290d66f3595bc32'),
+    ScalarCodec(TEMPERATURE, 'temperature',
+                'RIHS01_72514a14126ab9f8a9abec974c78e5610a367b59db5da355ff1fb982d5bad4b8'),
+    JointStateCodec())}

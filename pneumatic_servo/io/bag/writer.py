@@ -2,8 +2,9 @@
 INTERFACES.md topics, so a generated or simulated experiment looks like a recorded one.
 
 The messages of each topic are packed all at once by the topic's codec (numpy; the bytes
-rosbags' serialiser gives, tests/test_codecs.py) and handed to rosbags' writer sample by
-sample, every topic's message of a sample in turn, as a recorder receives them.
+rosbags' serialiser gives, tests/test_codecs.py) and written sample by sample, every
+topic's message of a sample in turn, as a recorder receives them (in bulk where the
+storage allows: :func:`.storage.write_samples`).
 """
 from __future__ import annotations
 
@@ -16,7 +17,7 @@ from ...experiment import Experiment
 from ..codecs import typestore
 from ..topics import CIRCUIT_KEY, DEFAULT_JOINT, KEY_PREFIX, TOPICS
 from .metadata import custom_value
-from .storage import STORAGES, abandon, add_topic, open_writer
+from .storage import STORAGES, abandon, add_topic, open_writer, write_samples
 
 #: start of the time axis of a written bag when the experiment does not say [ns since epoch]
 DEFAULT_START_NS = 1_700_000_000 * 1_000_000_000
@@ -100,17 +101,13 @@ def write_experiment_bag(exp: Experiment, path, storage: str = 'sqlite3',
     for key, value in (metadata or {}).items():
         custom[key if '.' in key else KEY_PREFIX + key] = custom_value(value)
     custom[CIRCUIT_KEY] = exp.circuit
-    store = typestore()
     try:
         writer = open_writer(path, storage, compress)
         for key, value in custom.items():
             writer.set_custom_data(key, value)
-        columns = [(add_topic(writer, topic, TOPICS[topic].msgtype, store, TOPICS[topic].hold),
+        columns = [(add_topic(writer, topic, TOPICS[topic].msgtype, None, TOPICS[topic].hold),
                     recs, raws) for topic, recs, raws in topics]
-        write = writer.write
-        for k in range(len(exp.t)):
-            for conn, recs, raws in columns:
-                write(conn, recs[k], raws[k])
+        write_samples(writer, columns, len(exp.t))
         writer.close()
     except WriterError as exc:
         raise ExperimentError(f'{path}: cannot write the bag ({exc})') from None
