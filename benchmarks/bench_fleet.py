@@ -1,20 +1,16 @@
-"""Fleet throughput on Dask, the compile cache, and where a simulate's time goes.
+"""Fleet throughput on Dask and the compile cache.
 
-1. Recordings per minute of ``fleet`` for compare (verify) and for ``--track`` with 1 and
-   2 local workers, on a generated fleet (warm kernel cache, as a second run has), and the
-   speed-up of 2 workers over 1 (target >= 1.7x on this 2-core machine); peak memory per
-   worker.
-2. The compile share: ``pneumatic-servo simulate`` of a 10 s, 1 kHz bag in a fresh process
-   with an empty kernel cache, then again with it warm (target >= 5x real time end to end).
-3. Where a simulate's time goes: start-up (imports), bag read, simulation, bag write.
+Recordings per minute of ``fleet`` for compare (verify) and for ``--track`` with 1 and 2
+local workers, on a generated fleet (warm kernel cache, as a second run has), and the
+speed-up of 2 workers over 1 (target >= 1.7x on this 2-core machine); peak memory per
+worker. (A single ``simulate``, cold and warm, and where its time goes:
+``bench_simulate.py``.)
 
 Usage: ``python benchmarks/bench_fleet.py [--rigs 4] [--days 10]``
 """
 from __future__ import annotations
 
 import argparse
-import os
-import subprocess
 import sys
 import tempfile
 import time
@@ -22,7 +18,6 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
-BIN = Path(sys.executable).parent
 
 
 def throughput(fleet: Path, work: Path, workers: int, track: bool) -> tuple[float, float]:
@@ -55,40 +50,6 @@ def throughput(fleet: Path, work: Path, workers: int, track: bool) -> tuple[floa
     return len(recs) / minutes, max(rss.values())
 
 
-def timed(cmd: list[str], env: dict) -> float:
-    t0 = time.perf_counter()
-    subprocess.run(cmd, check=True, env=env, capture_output=True)
-    return time.perf_counter() - t0
-
-
-def simulate_figures(work: Path) -> None:
-    """Cold and warm end-to-end simulate of a 10 s, 1 kHz bag, and the phases of a warm one."""
-    bag = ROOT / 'bags' / 'unlisted_effect_demo'
-    env = {**os.environ, 'PNEUMATIC_SERVO_CACHE': str(work / 'kernel_cache')}
-    cmd = [str(BIN / 'pneumatic-servo'), 'simulate', str(bag), '--out']
-    cold = timed(cmd + [str(work / 'sim_cold')], env)
-    warm = min(timed(cmd + [str(work / f'sim_warm{i}')], env) for i in range(3))
-    print(f'simulate, 10 s at 1 kHz, end to end: first run {cold:.2f} s (compiling), '
-          f'then {warm:.2f} s = {10.0 / warm:.1f}x real time (target >= 5x); '
-          f'compile share of the first run {100 * (cold - warm) / cold:.0f} %')
-    probe = ('import time; t0 = time.perf_counter()\n'
-             'from pneumatic_servo.io import read_experiment, write_experiment\n'
-             'from pneumatic_servo.analysis.compare import model_for, resolve_config\n'
-             'from pneumatic_servo.prediction import config_for, predict_checked\n'
-             't1 = time.perf_counter()\n'
-             f'exp = read_experiment({str(bag)!r}); t2 = time.perf_counter()\n'
-             'cfg = config_for(exp, resolve_config())\n'
-             'pred = predict_checked(model_for(cfg), exp, cfg); t3 = time.perf_counter()\n'
-             f'write_experiment(exp, {str(work / "sim_io")!r}, "mcap")\n'
-             't4 = time.perf_counter()\n'
-             'print(f"{t1 - t0:.2f} {t2 - t1:.2f} {t3 - t2:.2f} {t4 - t3:.2f}")')
-    out = subprocess.run([sys.executable, '-c', probe], env=env, capture_output=True,
-                         text=True, check=True).stdout.split()
-    print(f'  phases of a warm run: imports {out[0]} s, bag read {out[1]} s (rosbags CDR '
-          f'deserialisation of every message), simulation {out[2]} s (kernels loaded from '
-          f'the cache), bag write {out[3]} s')
-
-
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument('--rigs', type=int, default=4)
@@ -97,7 +58,6 @@ def main(argv=None) -> int:
     from pneumatic_servo.synth.fleet import FleetDesign, write_fleet
     with tempfile.TemporaryDirectory() as tmp:
         work = Path(tmp)
-        simulate_figures(work)
         fleet = write_fleet(work / 'fleet', FleetDesign(rigs=args.rigs, days=args.days,
                                                         broken=('none', -1)))
         n = args.rigs * args.days
