@@ -316,3 +316,25 @@ def test_diagnose_per_recording_keeps_the_status(fleet, tmp_path):
     assert flat['diagnosis_status'] == 'explained'
     page = (tmp_path / 'report' / 'fleet.html').read_text()
     assert 'explained: piston_seal_leakage' in page
+
+
+def test_a_first_run_needs_no_store(fleet, tmp_path):
+    """Without --store the rows go beside --json (NAME_rows.jsonl), else into the --report
+    directory, else into the current directory; the first line says where, and a rerun
+    resumes from there."""
+    two = str(fleet / 'cell-2' / 'day_0[01]')
+    args = [two, *LIMITS, '--workers', 1, '--no-progress']
+    (tmp_path / 'out').mkdir()
+    for extra, store, why in (
+            (['--json', 'out/fleet.json'], 'out/fleet_rows.jsonl', 'beside --json'),
+            (['--report', 'page'], 'page/fleet_rows.jsonl', 'in the --report directory'),
+            ([], 'fleet_rows.jsonl', 'in the current directory')):
+        proc = cli(*args, *extra, cwd=tmp_path)
+        assert proc.returncode == 0, proc.stderr
+        assert proc.stdout.splitlines()[0].startswith(f'row store: {store} ({why}'), proc.stdout
+        assert '(2 checked now, 0 from the store)' in proc.stdout
+        assert (tmp_path / store).read_text().count('\n') == 2
+    again = cli(*args, '--json', 'out/fleet.json', cwd=tmp_path)
+    assert '(0 checked now, 2 from the store)' in again.stdout, again.stdout
+    named = cli(*args, '--store', 'mine.jsonl', '--json', 'out/fleet.json', cwd=tmp_path)
+    assert not named.stdout.startswith('row store:') and (tmp_path / 'mine.jsonl').exists()

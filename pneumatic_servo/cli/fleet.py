@@ -1,5 +1,5 @@
-"""``pneumatic-servo fleet SOURCE... --store ROWS``: verify, track and diagnose many recordings
-on Dask, and warn when a rig degrades.
+"""``pneumatic-servo fleet SOURCE... [--store ROWS]``: verify, track and diagnose many
+recordings on Dask, and warn when a rig degrades.
 
 SOURCE is a directory tree (every rosbag2 directory and static CSV under it), a glob, or a
 manifest CSV with a path column (and optionally rig). Every recording is verified against
@@ -7,7 +7,9 @@ the model; --track E1,E2 also fits those effects (with --free base parameters) p
 recording, and an alert is raised where a tracked parameter of a rig trends or steps
 beyond its uncertainty (false-alarm rate 1 % per rig and parameter); --diagnose runs the
 full diagnosis per recording. Rows stream to the --store file as they finish; a rerun
-skips the recordings already there (keyed by content, config and options).
+skips the recordings already there (keyed by content, config and options). Without
+--store the rows go beside the --json file (NAME_rows.jsonl), else into the --report
+directory, else into fleet_rows.jsonl here; the first line printed says where.
 Runs on an embedded Dask LocalCluster (one worker per core), or on an existing cluster
 with --scheduler. Exit status: 0 every recording read and passed, 1 one failed
 verification or could not be read (its row says why), 2 bad input.
@@ -28,8 +30,10 @@ def add_parser(sub) -> argparse.ArgumentParser:
                        formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument('sources', nargs='+', metavar='SOURCE',
                    help='directory tree, glob or manifest CSV of recordings')
-    p.add_argument('--store', required=True, type=output_file, metavar='ROWS.jsonl',
-                   help='row store: results stream here; a rerun resumes from it')
+    p.add_argument('--store', type=output_file, metavar='ROWS.jsonl',
+                   help='row store: results stream here; a rerun resumes from it (default: '
+                   f'beside --json as NAME{STORE_SUFFIX}, else in --report, else '
+                   f'./{STORE_NAME})')
     p.add_argument('--config', metavar='CFG', help='model config YAML (default: the paper\'s)')
     p.add_argument('--track', metavar='E1,E2', default='',
                    help='effects to fit per recording and watch for change')
@@ -55,6 +59,39 @@ def add_parser(sub) -> argparse.ArgumentParser:
     return p
 
 
+#: the row store's name when --store is not given: beside --json (its stem + suffix), in
+#: --report, or in the current directory
+STORE_SUFFIX, STORE_NAME = '_rows.jsonl', 'fleet_rows.jsonl'
+
+
+def default_store(args) -> tuple[Path, str]:
+    """(row store, where it is and why) when --store is not given: beside the --json file,
+    else in the --report directory, else in the current directory."""
+    if args.json:
+        json_path = Path(args.json)
+        return json_path.with_name(json_path.stem + STORE_SUFFIX), 'beside --json'
+    if args.report:
+        return Path(args.report) / STORE_NAME, 'in the --report directory'
+    return Path(STORE_NAME), 'in the current directory'
+
+
+def _store(args) -> Path:
+    """The row store: --store, or :func:`default_store` (checked as --store is, and said)."""
+    from ..errors import ConfigError
+    if args.store:
+        return Path(args.store)
+    path, why = default_store(args)
+    if path.parent.is_dir():  # a --report directory not made yet takes any name
+        try:
+            output_file(str(path))
+        except argparse.ArgumentTypeError as exc:
+            raise ConfigError(f'the row store (no --store given: {why}): {exc}; name one '
+                              'with --store') from None
+    print(f'row store: {path} ({why}; a rerun resumes from it; --store puts it elsewhere)',
+          flush=True)
+    return path
+
+
 def _names(text: str) -> tuple[str, ...]:
     return tuple(s.strip() for s in text.split(',') if s.strip())
 
@@ -77,7 +114,7 @@ def run(args) -> int:
         probe.get(key)
     recordings = find_recordings(args.sources)
     result = run_fleet(recordings, config, FleetOptions(
-        Path(args.store), args.scheduler, args.workers, not args.no_progress, task))
+        _store(args), args.scheduler, args.workers, not args.no_progress, task))
     if args.json:
         Path(args.json).write_text(json.dumps(result.to_json(), indent=1, default=str))
     if args.table:
