@@ -22,6 +22,7 @@ import yaml
 from pneumatic_servo import effects as registry
 from pneumatic_servo._jit import njit
 from pneumatic_servo.analysis.diagnosis import DiagnoseOptions, apply, diagnose
+from pneumatic_servo.analysis.diagnosis.criteria import earns_place
 from pneumatic_servo.effects import Component, Param
 from pneumatic_servo.effects.layout import C_TORQUE, THETA
 from pneumatic_servo.io import read_experiment
@@ -86,7 +87,8 @@ def test_clean_data_raise_no_alarm(diagnosed):
     assert result.verdict == 'none', result.reason
     assert result.status == 'consistent' and result.discovered == []
     assert len(result.ranking) == len(registry.CATALOGUE_NAMES)
-    assert all(c.error_reduction < result.options.min_reduction for c in result.ranking)
+    assert not any(earns_place(c, result.options) for c in result.ranking)
+    assert result.to_json()['tests']['base']['departs'] is False
 
 
 def test_indistinguishable_pair_is_reported_with_an_experiment(diagnosed):

@@ -22,7 +22,7 @@ import numpy as np
 
 from ..analysis.diagnosis import DiagnoseOptions, apply, diagnose, text
 from ..analysis.diagnosis.emit import class_name, effect_source
-from ..analysis.diagnosis.options import MIN_REDUCTION
+from ..analysis.diagnosis.options import FALSE_ALARM_RATE
 from ..analysis.diagnosis_report import write_diagnosis_report
 from ..errors import ConfigError
 from ..io import read_experiment
@@ -58,9 +58,9 @@ def add_parser(sub) -> argparse.ArgumentParser:
     p.add_argument('--horizon', type=positive_seconds, default=None, metavar='S',
                    help='prediction horizon [s] from each measured state (default '
                         f'{DIAGNOSIS_HORIZON_S:g})')
-    p.add_argument('--min-reduction', type=fraction, default=None, metavar='F',
-                   help='smallest held-out error reduction that can name an effect '
-                        f'(default {MIN_REDUCTION:g})')
+    p.add_argument('--false-alarm-rate', type=fraction, default=FALSE_ALARM_RATE,
+                   metavar='F', help='probability that a record of a correct model is called '
+                   f'anything but consistent (default {FALSE_ALARM_RATE:g})')
     p.add_argument('--quiet', action='store_true', help='print only the verdict')
     p.set_defaults(run=run)
     return p
@@ -92,13 +92,10 @@ def _clean(o):
 def run(args) -> int:
     experiments = [read_experiment(p) for p in args.bags]
     config = ModelConfig.load(args.config) if args.config else ModelConfig.paper()
-    options = DiagnoseOptions()
-    if args.horizon is not None:
-        if not args.horizon > 0:
-            raise ConfigError('--horizon must be a positive number of seconds')
-        options.horizon_s = args.horizon
-    if args.min_reduction is not None:
-        options.min_reduction = args.min_reduction
+    if not 0.0 < args.false_alarm_rate < 1.0:
+        raise ConfigError('--false-alarm-rate must be between 0 and 1, e.g. 0.01')
+    options = DiagnoseOptions(horizon_s=args.horizon or DIAGNOSIS_HORIZON_S,
+                              false_alarm_rate=args.false_alarm_rate)
     say = (lambda *a: None) if args.quiet else print
 
     def progress(c):
@@ -110,6 +107,7 @@ def run(args) -> int:
                       progress=progress, validate_on=others)
     if not args.quiet:
         text.print_where(result, say)
+        text.print_floor(result, say)
         text.print_ranking(result, say)
         text.print_discovered(result, say)
         text.print_ladder(result.ladder, say)

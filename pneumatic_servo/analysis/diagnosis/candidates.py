@@ -137,7 +137,7 @@ def plausibility(config: ModelConfig, values: dict[str, float], at_bound: list[s
     return problems
 
 
-@dataclass
+@dataclass(frozen=True)
 class Baseline:
     """The model as given (free base keys fitted), scored on the held-out parts."""
 
@@ -160,7 +160,7 @@ def baseline(config: ModelConfig, data: Data, free: list[str], options: Diagnose
     return Baseline(config, score_many(model, data, [host])[0], values)
 
 
-@dataclass
+@dataclass(frozen=True)
 class Screen:
     """A candidate after the coarse grid: its host model and best grid point."""
 
@@ -183,9 +183,10 @@ def screen_effect(name: str, base: Baseline, data: Data) -> Screen:
     return Screen(name, host, model, keys, start, cost, time.perf_counter() - t0)
 
 
-@dataclass
+@dataclass(frozen=True)
 class Candidate:
-    """One effect tried: fitted values, held-out score and whether they are plausible."""
+    """One effect tried: fitted values, held-out score and whether they are plausible; the
+    ranking (:func:`~.verdict.rank`) returns copies with its judgement filled in."""
 
     effect: str
     params: dict[str, float]
@@ -210,12 +211,16 @@ class Candidate:
     undetermined: dict[str, str] = field(default_factory=dict)
     #: scores on other experiments (``--validate-on``), if any were given
     validation: object = None
-    #: filled by the ranking: information criteria against the baseline, the held-out RMS
-    #: [normalised] of the error the effect explains, sqrt(base^2 - cand^2), and the sensor
-    #: noise it is compared with
+    #: filled by the ranking, against the reference it was tried on: information criteria,
+    #: the one-sided p-value of its held-out gain and the level it is tested at
+    #: (:mod:`.criteria`), the RMS [normalised] of the error it explains, that RMS in units
+    #: of the prediction floor, and the sensor noise (for reference)
     delta_aic: float = 0.0
     delta_bic: float = 0.0
+    gain_p_value: float = 1.0
+    level: float = 0.0
     explained_rms: float = 0.0
+    size_in_floor: float = 0.0
     noise_rms: float = 0.0
 
     @property
@@ -235,6 +240,8 @@ class Candidate:
                 'correlation': np.round(self.correlation, 4).tolist()
                 if self.correlation is not None else None,
                 'explained_rms': self.explained_rms, 'noise_rms': self.noise_rms,
+                'gain_p_value': self.gain_p_value, 'level': self.level,
+                'size_in_floor': self.size_in_floor,
                 'converged': self.converged, 'fitted': self.fitted,
                 'undetermined': dict(self.undetermined),
                 'validation': self.validation.to_json() if self.validation else None,

@@ -69,7 +69,7 @@ def noise_sigma(x: np.ndarray) -> float:
     return 1.4826 * float(np.median(np.abs(d2 - np.median(d2)))) / np.sqrt(6.0)
 
 
-@dataclass
+@dataclass(frozen=True)
 class Data:
     """Experiments prepared and split for diagnosis."""
 
@@ -113,6 +113,11 @@ class Data:
         """Validation segments (or table rows) times their channels."""
         return sum((len(p.plan.segments) if p.plan is not None else p.samples)
                    * len(p.scales) for p in self.val)
+
+    @property
+    def independent_units(self) -> int:
+        """Validation segments and table rows: each starts afresh from measured states."""
+        return sum(len(p.plan.segments) if p.plan is not None else p.samples for p in self.val)
 
     @classmethod
     def of(cls, experiments: list[Experiment], options: DiagnoseOptions) -> 'Data':

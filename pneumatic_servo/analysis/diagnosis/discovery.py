@@ -37,7 +37,7 @@ from .data import Data
 from .hosts import shared_host
 from .interpret import interpret
 from .options import DiagnoseOptions
-from .scoring import relative_fall, score_many
+from .scoring import information_criteria, relative_fall, score_many
 
 #: sensitivity step of a coefficient, as a share of its plausible size: large enough to step
 #: over the roughness of stick-slip
@@ -46,7 +46,12 @@ SCREEN_STEP = 0.05
 LEADING_PER_EQUATION = 4
 
 
-@dataclass
+def terms_of(params: dict[str, float]) -> dict[str, float]:
+    """Regressor -> value of correction parameters keyed ``'component.<regressor>_coefficient'``."""
+    return {k.partition('.')[2].removesuffix('_coefficient'): v for k, v in params.items()}
+
+
+@dataclass(frozen=True)
 class Discovered(Candidate):
     """A generic correction fitted and scored like a named effect.
 
@@ -61,12 +66,10 @@ class Discovered(Candidate):
 
     @property
     def terms(self) -> dict[str, float]:
-        return {k.partition('.')[2].removesuffix('_coefficient'): v
-                for k, v in self.params.items()}
+        return terms_of(self.params)
 
     def to_json(self) -> dict:
-        stderr = {k.partition('.')[2].removesuffix('_coefficient'): v
-                  for k, v in self.stderr.items()}
+        stderr = terms_of(self.stderr)
         return {**super().to_json(), 'equation': self.equation, 'terms': self.terms,
                 'stderr': stderr, 'error_reduction': self.error_reduction,
                 'interpretation': self.interpretation,
@@ -87,7 +90,7 @@ def _key(equation: str, regressor: str) -> str:
     return f'{BY_EQUATION[equation].name}.{coefficient_name(regressor)}'
 
 
-@dataclass
+@dataclass(frozen=True)
 class Screened:
     """One equation after the linear screen: its best regressors and their coefficients [SI],
     and the held-out error reduction the linearisation predicts."""
@@ -179,7 +182,7 @@ def _forward_selection(lead, S_fit, S_val, block, base_val: float, n_eff: float,
     c0, r_fit, r_val = lead[first]
 
     def bic(rss, k):
-        return n_eff * math.log(max(rss, 1e-300) / max(base_val, 1e-300)) + k * math.log(n_eff)
+        return information_criteria(base_val, rss, k, n_eff)[1]
 
     rss = float(r_val @ r_val)
     best = ([first], np.array([c0]), rss, bic(rss, 1))
@@ -256,8 +259,8 @@ def confirm(screened: Screened, host: ModelConfig, model: Model, base: Baseline,
         converged=result.converged, seconds=time.perf_counter() - t0,
         acts_on=BY_EQUATION[screened.equation].acts_on,
         summary=BY_EQUATION[screened.equation].equation.description,
-        equation=screened.equation, screened_reduction=screened.reduction)
-    found.interpretation = interpret(screened.equation, found.terms, base.config)
+        equation=screened.equation, screened_reduction=screened.reduction,
+        interpretation=interpret(screened.equation, terms_of(values), base.config))
     return found
 
 

@@ -1,25 +1,25 @@
-"""How diagnosis fits and scores candidate effects: the options and their defaults."""
+"""How diagnosis fits and scores candidate effects, and the error rate of its statements."""
 from __future__ import annotations
 
 from dataclasses import dataclass, fields
 
 from ...prediction import DIAGNOSIS_HORIZON_S
 
-#: a fall of the held-out residual below this fraction never names an effect
-MIN_REDUCTION = 0.2
-#: information-criterion gain (BIC, lower is better) an effect must reach
-MIN_DELTA_BIC = -10.0
-#: an effect must explain a held-out error this many times the sensor noise (as it is
-#: left in the smoothed residual)
-MIN_NOISE_RATIO = 3.0
+#: probability that a record of a correct model gets any status but ``consistent``
+FALSE_ALARM_RATE = 0.01
+#: an effect is of practical size when the held-out error it explains is at least this share
+#: of the prediction floor (both as RMS): less is within what the model cannot predict anyway
+PRACTICAL_SIZE = 0.5
+#: replicas of the record simulated to measure its prediction floor (:mod:`.floor`)
+REPLICAS = 16
 #: two candidates whose held-out residuals differ by less than this fraction explain
 #: the data about equally
 AMBIGUITY = 0.05
 
 
-@dataclass
+@dataclass(frozen=True)
 class DiagnoseOptions:
-    """How candidates are fitted and scored.
+    """How candidates are fitted and scored, and how sure a statement must be.
 
     Attributes
     ----------
@@ -47,13 +47,18 @@ class DiagnoseOptions:
         Candidates fitted in full: those whose best point of the coarse
         parameter grid fits best. The others are scored at that grid point
         (a screen; raise this to fit every candidate).
-    min_reduction : float
-        Smallest held-out residual fall (fraction) that can name an effect.
-    min_delta_bic : float
-        BIC change an effect must reach (negative: lower is better).
-    min_noise_ratio : float
-        The held-out error an effect explains must be this many times the
-        sensor noise (both as normalised RMS).
+    false_alarm_rate : float
+        Probability that a record of a correct model is given any status but
+        ``consistent``; shared between the tests of the record against its floor
+        and the tests of the candidates (:mod:`.criteria`).
+    practical_size : float
+        Share of the prediction floor (RMS) that the error an effect explains must
+        reach for the effect to earn its place; a significant effect below it is
+        reported as small.
+    replicas : int
+        Replicas simulated to measure the prediction floor.
+    seed : int
+        Seed of the replicas' noise and jitter (a diagnosis is reproducible).
     ambiguity : float
         Relative difference of held-out residuals below which two effects tie.
     discover : bool
@@ -73,15 +78,16 @@ class DiagnoseOptions:
     max_iter: int = 6
     full_fits: int = 4
     refit_present: bool = True
-    min_reduction: float = MIN_REDUCTION
-    min_delta_bic: float = MIN_DELTA_BIC
-    min_noise_ratio: float = MIN_NOISE_RATIO
+    false_alarm_rate: float = FALSE_ALARM_RATE
+    practical_size: float = PRACTICAL_SIZE
+    replicas: int = REPLICAS
+    seed: int = 0
     ambiguity: float = AMBIGUITY
     discover: bool = True
     max_terms: int = 3
     discovery_fits: int = 3
 
     def to_json(self) -> dict:
-        """The options that shape the scores (for the JSON result)."""
+        """The options that shape the scores and decisions (for the JSON result)."""
         skip = {'max_iter', 'full_fits', 'refit_present', 'discovery_fits'}
         return {f.name: getattr(self, f.name) for f in fields(self) if f.name not in skip}

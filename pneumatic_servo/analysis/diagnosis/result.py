@@ -5,23 +5,20 @@ from dataclasses import dataclass, field
 
 from ...errors import ConfigError
 from ...model.config import ModelConfig
-from .candidates import Baseline, Candidate
-from .data import Data
-from .options import DiagnoseOptions
-from .status import CONSISTENT_RATIO, Finding
-from .verdict import earns_place
+from .candidates import Candidate
+from .criteria import earns_place
+from .status import Finding
+from .trial import Trial
 
 
-@dataclass
+@dataclass(frozen=True)
 class Diagnosis:
     """Result of :func:`~.run.diagnose`: the status and verdict, the ranking of named
-    effects, the generic corrections discovered, and what backs them."""
+    effects, the generic corrections discovered, the tests behind them, and what backs them."""
 
     finding: Finding
     ranking: list[Candidate]
-    baseline: Baseline
-    options: DiagnoseOptions
-    free: list[str]
+    trial: Trial = field(repr=False)
     experiments: list[str]
     seconds: float
     #: generic corrections, best first (when the status is partly_explained or unexplained)
@@ -32,15 +29,19 @@ class Diagnosis:
     where: dict = field(default_factory=dict)
     #: names of the other experiments every candidate was also scored on (validation)
     validated_on: list[str] = field(default_factory=list)
-    #: the prepared experiments and the model's predictions of them (for reports)
-    data: Data = field(default=None, repr=False)
+    #: the model's predictions of the prepared experiments (for reports)
     base_predictions: list = field(default=None, repr=False)
 
     status = property(lambda self: self.finding.status)
     verdict = property(lambda self: self.finding.verdict)
     reason = property(lambda self: self.finding.reason)
-    ambiguous_with = property(lambda self: self.finding.ties)
+    ambiguous_with = property(lambda self: list(self.finding.ties))
     suggested_experiment = property(lambda self: self.finding.suggestion)
+    baseline = property(lambda self: self.trial.base)
+    options = property(lambda self: self.trial.options)
+    free = property(lambda self: list(self.trial.free))
+    data = property(lambda self: self.trial.data)
+    floor = property(lambda self: self.trial.floor)
 
     @property
     def winner(self) -> Candidate | None:
@@ -49,20 +50,24 @@ class Diagnosis:
 
     @property
     def added(self) -> Candidate | None:
-        """What ``--apply`` adds: the named winner, else the best discovered correction if
-        it earns its place."""
-        if self.winner is not None:
-            return self.winner
-        best = self.discovered[0] if self.discovered else None
-        return best if best is not None and earns_place(best, self.options) else None
+        """What ``--apply`` adds (:func:`added_by`)."""
+        return added_by(self.finding, self.ranking, self.discovered, self.options)
+
+    def departures(self) -> dict:
+        """The model as given, and what the verdict (or the added correction) leaves,
+        against the floor."""
+        out = {'base': self.trial.departures(self.baseline.score).to_json()}
+        if self.added is not None:
+            out['remainder'] = self.trial.departures(self.added.score).to_json()
+        return out
 
     def to_json(self) -> dict:
-        noise = self.ranking[0].noise_rms if self.ranking else None
-        return {'status': self.status, 'verdict': self.verdict,
+        options = self.options
+        return {'status': str(self.status), 'verdict': self.verdict,
                 'size': self.finding.size,
-                'ranking': [{'rank': i + 1, 'earns_place': earns_place(c, self.options),
+                'ranking': [{'rank': i + 1, 'earns_place': earns_place(c, options),
                              **c.to_json()} for i, c in enumerate(self.ranking)],
-                'discovered': [{'rank': i + 1, 'earns_place': earns_place(d, self.options),
+                'discovered': [{'rank': i + 1, 'earns_place': earns_place(d, options),
                                 **d.to_json()} for i, d in enumerate(self.discovered)],
                 'partial_fits': list(self.finding.partial),
                 'ambiguous_with': list(self.ambiguous_with),
@@ -71,14 +76,29 @@ class Diagnosis:
                 'baseline': {'heldout_rms': self.baseline.score.to_json(),
                              'base_params': dict(self.baseline.values),
                              'effects': list(self.baseline.config.effects)},
+                'floor': self.floor.to_json(),
+                'tests': {**self.departures(),
+                          'levels': {'departure': self.trial.levels.departure,
+                                     'candidate': self.trial.levels.candidate}},
                 'ladder': self.ladder,
                 'where': self.where,
                 'experiments': list(self.experiments), 'free': list(self.free),
                 'validated_on': list(self.validated_on),
-                'options': self.options.to_json(),
-                'noise_rms': noise, 'consistent_ratio': CONSISTENT_RATIO,
+                'options': options.to_json(),
+                'noise_rms': self.trial.noise,
                 'seconds': round(self.seconds, 2),
                 'timings': {k: round(v, 2) for k, v in self.timings.items()}}
+
+
+def added_by(finding: Finding, ranking: list[Candidate], discovered: list[Candidate],
+             options) -> Candidate | None:
+    """What ``--apply`` adds: the named verdict, else the best discovered correction if it
+    earns its place."""
+    winner = next((c for c in ranking if c.effect == finding.verdict), None)
+    if winner is not None:
+        return winner
+    best = discovered[0] if discovered else None
+    return best if best is not None and earns_place(best, options) else None
 
 
 def apply(result: Diagnosis, effect: str | None = None) -> ModelConfig:

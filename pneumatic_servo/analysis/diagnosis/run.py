@@ -4,12 +4,18 @@ For every candidate effect (the catalogue and any user-registered effect),
 the model is extended with it, the effect's ``fit=True`` parameters (plus
 any base parameters the user frees, plus the effects already in the model)
 are fitted by output error on one part of the data, and the extended model
-is scored on the other part. Candidates are ranked by the validated fall of
-the residual, penalised by an information criterion (BIC) for the
-parameters they add. An effect is the verdict only if it earns its place:
-a real fall of the held-out residual, a clear BIC gain, an explained error
-well above the sensor noise, and physically plausible fitted values.
-Otherwise the verdict is ``'none'``, so that clean data raise no alarm.
+is scored on the other part. Every statement is a test against the record's own
+prediction floor (:mod:`.floor`, :mod:`.criteria`): an effect is the verdict
+only if its held-out gain is significant and of practical size with plausible
+values, and the status says whether what it leaves still departs from the floor.
+A record of a correct model gets any status but ``consistent`` with probability
+at most ``options.false_alarm_rate``.
+
+The pipeline, each stage a function of the frozen :class:`~.trial.Trial`:
+prepare and split the data; fit the baseline; measure the floor; screen, fit and
+rank the named candidates; discover generic corrections where the model departs;
+fit a second named effect on top of the first where the decision needs it;
+decide; validate on other experiments; the ladder.
 
 How the residual is formed:
 
@@ -27,8 +33,8 @@ How the residual is formed:
 """
 from __future__ import annotations
 
-import copy
 import time
+from dataclasses import replace
 
 import numpy as np
 
@@ -40,17 +46,20 @@ from ...model.config import ModelConfig
 from ...prediction import predict
 from ..regimes import error_shares, hot_spots
 from ..residuals import residual_tests, summary
-from .candidates import Baseline, baseline, candidate_effects, screen_effect, try_effect
+from .candidates import Baseline, Candidate, baseline, candidate_effects, screen_effect, try_effect
+from .criteria import Levels, certain, earns_place
 from .data import Data
 from .discovery import Discovered, discover
+from .floor import measure_floor
 from .hosts import shared_host
 from .ladder import ladder
 from .options import DiagnoseOptions
-from .result import Diagnosis
+from .result import Diagnosis, added_by
 from .scoring import relative_fall
-from .status import certain, consistent, decide
+from .status import Pair, decide, needs_pair
+from .trial import Trial
 from .validation import score_on, validate
-from .verdict import earns_place, rank
+from .verdict import rank
 
 
 def predictions(config: ModelConfig, data: Data) -> list[dict[str, np.ndarray]]:
@@ -112,7 +121,7 @@ def diagnose(experiments: list[Experiment], config: ModelConfig | None = None,
         Base parameter keys (``'owner.name'``) refitted with every candidate
         and for the baseline.
     options : DiagnoseOptions, optional
-        Fit and scoring settings.
+        Fit, scoring and decision settings.
     progress : callable, optional
         Called with each finished :class:`~.candidates.Candidate`.
     validate_on : list of Experiment, optional
@@ -122,99 +131,127 @@ def diagnose(experiments: list[Experiment], config: ModelConfig | None = None,
     Returns
     -------
     Diagnosis
-        Verdict (an effect name or 'none'), ranking best first, ties and a
-        suggested experiment, and the held-out error ladder.
+        Status, verdict (an effect name or 'none'), ranking best first, the tests behind
+        them, ties and a suggested experiment, and the held-out error ladder.
     """
     t0 = time.perf_counter()
+    timings = {}
+
+    def timed(name, fn, *args, **kwargs):
+        t1 = time.perf_counter()
+        out = fn(*args, **kwargs)
+        timings[name] = time.perf_counter() - t1
+        return out
+
     options = options or DiagnoseOptions()
     config = config or ModelConfig.paper()
+    names = candidate_effects(config, effects)
+    trial = timed('prepare', prepare, experiments, config, free, options)
+    trial = timed('baseline', with_floor, trial, len(names))
+    base_preds = timed('where', predictions, trial.base.config, trial.data)
+    where = where_it_fails(trial.data.experiments, base_preds, trial.base.config)
+    ranking = rank(timed('named', named_candidates, trial, names, progress), trial)
+    found = []
+    if options.discover and (any(certain(c, options) for c in ranking)
+                             or trial.departures(trial.base.score).departs):
+        found = timed('discovery', look_for_terms, trial, trial.base, progress)
+        # one effective sample count for all, so that named and generic compare fairly
+        joint = rank(ranking + found, trial)
+        ranking = [c for c in joint if not isinstance(c, Discovered)]
+        found = [c for c in joint if isinstance(c, Discovered)]
+    asked = needs_pair(trial, ranking, found)
+    pair = timed('named_pair', second_on_top, trial, *asked) if asked else None
+    finding = decide(trial, ranking, found, pair)
+    if finding.look_on_top:
+        winner = next(c for c in ranking if c.effect == finding.verdict)
+        on_top = Baseline(winner.config, winner.score, trial.base.values)
+        found = timed('discovery_on_top', look_for_terms, replace(
+            trial, free=trial.free + tuple(present_keys(winner.config))), on_top, progress,
+            on_top)
+    other = Data.of(validate_on, options) if validate_on else None
+    if other is not None:
+        ranking, found, finding = timed('validation', validated, trial, ranking, found,
+                                        finding, other)
+    keep = finding.status in ('partly_explained', 'unexplained')
+    discovered = found if keep else []
+    added = added_by(finding, ranking, discovered, options)
+    rungs = timed('ladder', ladder, config, trial.data, added, trial.base, other)
+    return Diagnosis(finding, ranking, trial, [e.name for e in experiments],
+                     time.perf_counter() - t0, discovered=discovered, ladder=rungs,
+                     timings=timings, where=where, base_predictions=base_preds,
+                     validated_on=[e.name for e in validate_on or ()])
+
+
+def prepare(experiments: list[Experiment], config: ModelConfig, free, options: DiagnoseOptions
+            ) -> Trial:
+    """The data split and the model as given, its free keys fitted (no floor yet)."""
     free = list(free)
     for key in free:
         config.get(key)  # a clear error for an unknown key
     if options.refit_present:
         free += [k for k in present_keys(config) if k not in free]
-    names = candidate_effects(config, effects)
     data = Data.of(experiments, options)
-    timings = {'prepare': time.perf_counter() - t0}
     base = baseline(config, data, free, options)
-    base_preds = predictions(base.config, data)
-    where = where_it_fails(data.experiments, base_preds, base.config)
-    timings['baseline'] = time.perf_counter() - t0 - timings['prepare']
-    screens = [screen_effect(name, base, data) for name in names]
-    full = {s.name for s in sorted(screens, key=lambda s: s.cost)[:options.full_fits]}
-    candidates = []
+    return Trial(data, base, tuple(free), options, 0.0, None, None)
+
+
+def with_floor(trial: Trial, named: int) -> Trial:
+    """``trial`` with its sensor noise, prediction floor and test levels."""
+    host = shared_host(trial.base.config)
+    model = Model(host)
+    floor = measure_floor(model, host, trial.data, trial.options.replicas, trial.options.seed)
+    tries = named + (trial.options.discovery_fits if trial.options.discover else 0)
+    levels = Levels.of(trial.options.false_alarm_rate, len(floor.series_channels), tries)
+    return replace(trial, noise=trial.data.noise(model, host), floor=floor, levels=levels)
+
+
+def named_candidates(trial: Trial, names: list[str], progress=None) -> list[Candidate]:
+    """Every named effect screened on a coarse grid of its parameters; the
+    ``options.full_fits`` best screens fitted in full, the others scored at their grid
+    point; all scored held out."""
+    screens = [screen_effect(name, trial.base, trial.data) for name in names]
+    full = {s.name for s in sorted(screens, key=lambda s: s.cost)[:trial.options.full_fits]}
+    out = []
     for scr in screens:
-        cand = try_effect(scr, base, data, free, options, full_fit=scr.name in full)
-        timings[scr.name] = cand.seconds
-        candidates.append(cand)
+        out.append(try_effect(scr, trial.base, trial.data, list(trial.free), trial.options,
+                              full_fit=scr.name in full))
         if progress is not None:
-            progress(cand)
-    host = shared_host(base.config)
-    noise = data.noise(Model(host), host)
-    ranking = rank(candidates, base, options, data.independent, noise)
-    found = []
-    if options.discover and (any(certain(c, options) or earns_place(c, options)
-                                 for c in ranking)
-                             or not consistent(base.score.overall, noise)):
-        t1 = time.perf_counter()
-        found = look_for_terms(base, data, free, options, noise, progress)
-        timings['discovery'] = time.perf_counter() - t1
-        # one effective sample count for all, so that named and generic compare fairly
-        joint = rank(candidates + found, base, options, data.independent, noise)
-        ranking = [c for c in joint if not isinstance(c, Discovered)]
-        found = [c for c in joint if isinstance(c, Discovered)]
-    def pair(first, second):
-        """``second`` fitted on top of ``first``: (the step, the pair against the base)."""
-        t1 = time.perf_counter()
-        with_first = Baseline(first.config, first.score, base.values)
-        step = try_effect(screen_effect(second.effect, with_first, data), with_first, data,
-                          free, options)
-        step = rank([step], with_first, options, data.independent, noise)[0]
-        both = copy.copy(step)
-        both.n_params += first.n_params
-        both = rank([both], base, options, data.independent, noise)[0]
-        both.error_reduction = relative_fall(both.score.overall, base.score.overall)
-        timings['named_pair'] = time.perf_counter() - t1
-        return step, both
-
-    finding = decide(ranking, found, base.score.overall, noise, options, pair)
-    if finding.look_on_top:
-        winner = next(c for c in ranking if c.effect == finding.verdict)
-        t1 = time.perf_counter()
-        on_top = Baseline(winner.config, winner.score, base.values)
-        found = look_for_terms(on_top, data, free + present_keys(winner.config), options,
-                               noise, progress)
-        timings['discovery_on_top'] = time.perf_counter() - t1
-    other = Data.of(validate_on, options) if validate_on else None
-    if other is not None:
-        t1 = time.perf_counter()
-        base_other = score_on(base.config, shared_host, other)
-        for c in ranking + found:
-            c.validation = validate(c, base_other, other)
-        timings['validation'] = time.perf_counter() - t1
-        winner = next((c for c in ranking + found if c.effect == finding.verdict), None)
-        if winner is not None and winner.validation.hurts:
-            finding.reason += (f'; but it makes the other experiments worse (error '
-                               f'{-100 * winner.validation.error_reduction:+.0f} %): it may '
-                               'only overfit this one')
-    result = Diagnosis(finding, ranking, base, options, free, [e.name for e in experiments],
-                       0.0, discovered=found if finding.status in (
-                           'partly_explained', 'unexplained') else [],
-                       timings=timings, where=where, data=data, base_predictions=base_preds,
-                       validated_on=[e.name for e in validate_on or ()])
-    t1 = time.perf_counter()
-    result.ladder = ladder(config, data, result.added, base, other)
-    timings['ladder'] = time.perf_counter() - t1
-    result.seconds = time.perf_counter() - t0
-    return result
+            progress(out[-1])
+    return out
 
 
-def look_for_terms(base: Baseline, data: Data, free: list[str], options: DiagnoseOptions,
-                   noise: float, progress=None) -> list:
+def second_on_top(trial: Trial, first: Candidate, second: Candidate) -> Pair:
+    """``second`` fitted on top of ``first``: the step judged against ``first``, the two
+    together against the model as given."""
+    with_first = Baseline(first.config, first.score, trial.base.values)
+    step = try_effect(screen_effect(second.effect, with_first, trial.data), with_first,
+                      trial.data, list(trial.free), trial.options)
+    step = rank([step], trial, with_first)[0]
+    both = replace(step, n_params=step.n_params + first.n_params,
+                   error_reduction=relative_fall(step.score.overall,
+                                                 trial.base.score.overall))
+    return Pair(first, step, rank([both], trial)[0])
+
+
+def validated(trial: Trial, ranking, found, finding, other: Data):
+    """Every candidate scored on the other experiments; the verdict's reason says so when
+    it makes them worse."""
+    base_other = score_on(trial.base.config, shared_host, other)
+    ranking = [replace(c, validation=validate(c, base_other, other)) for c in ranking]
+    found = [replace(c, validation=validate(c, base_other, other)) for c in found]
+    winner = next((c for c in ranking + found if c.effect == finding.verdict), None)
+    if winner is not None and winner.validation.hurts:
+        finding = replace(finding, reason=finding.reason + (
+            f'; but it makes the other experiments worse (error '
+            f'{-100 * winner.validation.error_reduction:+.0f} %): it may only overfit this one'))
+    return ranking, found, finding
+
+
+def look_for_terms(trial: Trial, base: Baseline, progress=None, reference=None) -> list:
     """Generic corrections of ``base``, confirmed and ranked best first (:mod:`.discovery`)."""
-    n_eff = max(effective_samples(base.score.residual), float(data.independent))
-    found = discover(base, data, free, n_eff, options)
+    n_eff = max(effective_samples(base.score.residual), float(trial.data.independent))
+    found = discover(base, trial.data, list(trial.free), n_eff, trial.options)
     for term in found:
         if progress is not None:
             progress(term)
-    return rank(found, base, options, data.independent, noise)
+    return rank(found, trial, reference)

@@ -12,7 +12,7 @@ from ...model.config import ModelConfig
 from .data import Data
 
 
-@dataclass
+@dataclass(frozen=True)
 class Score:
     """Held-out residual of one model: normalised RMS per channel and overall."""
 
@@ -20,12 +20,16 @@ class Score:
     overall: float
     #: pooled normalised residual vector (for the information criterion)
     residual: np.ndarray = field(repr=False, default=None)
-
     @classmethod
     def of(cls, row: dict[str, np.ndarray]) -> 'Score':
+        """The score of a :func:`~pneumatic_servo.fitting.residual_rows` row."""
         pooled = stack(row)
         return cls({ch: float(np.sqrt(np.mean(r ** 2))) for ch, r in row.items()},
                    float(np.sqrt(np.mean(pooled ** 2))), pooled)
+
+    def mean_square(self, channel: str | None = None) -> float:
+        """Held-out mean square [normalised^2] of ``channel``, or pooled."""
+        return (self.overall if channel is None else self.channels[channel]) ** 2
 
     def to_json(self) -> dict:
         return {'overall': self.overall, 'channels': dict(self.channels)}
@@ -36,16 +40,16 @@ def score_many(model: Model, data: Data, configs: list[ModelConfig]) -> list[Sco
     return [Score.of(row) for row in residual_rows(model, data.val, configs)]
 
 
-def information_criteria(base: Score, cand: Score, k: int, n_eff: float
+def information_criteria(base_ms: float, cand_ms: float, k: int, n_eff: float
                          ) -> tuple[float, float]:
-    """(delta AIC, delta BIC) of a candidate adding ``k`` parameters, on ``n_eff`` samples.
+    """(delta AIC, delta BIC) of a candidate adding ``k`` parameters, from the held-out mean
+    squares (or sums of squares) of the base and the candidate, on ``n_eff`` samples.
 
     Gaussian likelihood on the held-out residual: n ln(RSS_1/RSS_0) plus the
     penalty; ``n_eff`` discounts the residual's autocorrelation, without
     which any tiny improvement on thousands of samples looks significant.
     """
-    ratio = max(cand.overall, 1e-300) ** 2 / max(base.overall, 1e-300) ** 2
-    fit_term = n_eff * math.log(ratio)
+    fit_term = n_eff * math.log(max(cand_ms, 1e-300) / max(base_ms, 1e-300))
     return fit_term + 2.0 * k, fit_term + k * math.log(n_eff)
 
 

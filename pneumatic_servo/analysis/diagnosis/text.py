@@ -34,7 +34,7 @@ def print_ranking(result: Diagnosis, out=print) -> None:
     validated), BIC change, fitted values, and what the data could not determine."""
     other = bool(result.validated_on)
     out(f'{"effect":<24} {"error red.":>10}' + (f' {"on others":>10}' if other else '')
-        + f' {"dBIC":>9}  fitted values (+/- 1 s.e.)')
+        + f' {"p":>8} {"x floor":>7} {"dBIC":>9}  fitted values (+/- 1 s.e.)')
     for c in result.ranking:
         vals = ', '.join(f'{k.partition(".")[2]}={plus_minus(v, c.stderr[k])}'
                          for k, v in c.params.items())
@@ -46,8 +46,8 @@ def print_ranking(result: Diagnosis, out=print) -> None:
         if other and c.validation is not None:
             val = f' {100 * c.validation.error_reduction:9.1f}%'
             note += '  [HURTS the other experiments]' if c.validation.hurts else ''
-        out(f'{c.effect:<24} {100 * c.error_reduction:9.1f}%{val} {c.delta_bic:9.1f}  '
-            f'{vals}{note}')
+        out(f'{c.effect:<24} {100 * c.error_reduction:9.1f}%{val} {c.gain_p_value:8.2g} '
+            f'{c.size_in_floor:7.2f} {c.delta_bic:9.1f}  {vals}{note}')
     for c in result.ranking:
         if c.validation is not None and c.validation.assumptions:
             out(f'  {c.effect} on the other experiments: ' + '; '.join(c.validation.assumptions))
@@ -87,6 +87,21 @@ def print_discovered(result: Diagnosis, out=print) -> None:
         terms = ', '.join(f'{r} {plus_minus(v, se[r])}' for r, v in d.terms.items())
         out(f'  {d.equation:<20} {100 * d.error_reduction:6.1f} %  {terms}')
         out(f'  {"":<20} -> {d.interpretation}')
+
+
+def print_floor(result: Diagnosis, out=print) -> None:
+    """The prediction floor per channel and how the model as given departs from it."""
+    floor, base = result.floor, result.trial.departures(result.baseline.score)
+    out(f'prediction floor ({floor.replicas} replicas of these records with the fitted '
+        'model; held-out RMS / channel spread):')
+    for ch, test in base.tests.items():
+        rms = floor.rms(None if ch == 'overall' else ch)
+        out(f'  {ch:<8} floor {rms:.4f}  model as given {test.ratio:5.2f} x the floor '
+            f'(p = {test.p_value:.2g})')
+    out(f'  tests at {100 * result.options.false_alarm_rate:g} % per record: a channel '
+        f'departs at p <= {base.level:.2g}, an effect earns its place at p <= '
+        f'{result.trial.levels.candidate:.2g} and explains >= '
+        f'{result.options.practical_size:g} x the floor')
 
 
 def print_verdict(result: Diagnosis, out=print) -> None:

@@ -1,13 +1,13 @@
-"""The ranking of candidates: information criteria, which earn their place, and the experiment
-that tells two look-alikes apart."""
+"""The ranking of candidates (their tests against a reference model, information criteria)
+and the experiment that tells two look-alikes apart."""
 from __future__ import annotations
 
-import numpy as np
+from dataclasses import replace
 
 from ... import effects as registry
 from ...fitting import effective_samples
 from .candidates import Baseline, Candidate
-from .options import DiagnoseOptions
+from .criteria import earns_place, explained_rms, gain_p_value
 from .scoring import information_criteria
 
 
@@ -26,54 +26,30 @@ def suggest_experiment(a: str, b: str) -> str:
             'data; ' + '; '.join(parts))
 
 
-def rank(candidates: list[Candidate], base: Baseline, options: DiagnoseOptions,
-         independent: int = 0, noise: float = 0.0) -> list[Candidate]:
-    """Candidates with information criteria filled in, best first.
+def rank(candidates: list[Candidate], trial, reference: Baseline | None = None
+         ) -> list[Candidate]:
+    """Copies of ``candidates`` judged against ``reference`` (default the model as given),
+    best first: those that earn their place (:mod:`.criteria`), then the rest, each by BIC.
 
-    The effective sample count is taken from the best candidate's residual
-    (the nearest to the noise whose correlation discounts the samples), but
-    not below ``independent``: every prediction segment starts afresh from
-    the measured state, so each segment and channel is at least one
-    independent sample. Candidates that earn their place come first, then
-    the rest, each by BIC.
+    The effective sample count of the information criterion is taken from the best
+    candidate's residual (the nearest to the noise, whose correlation discounts the
+    samples), but not below the held-out segments times channels: every segment starts
+    afresh from the measured state.
     """
     if not candidates:
         return []
+    ref = (reference or trial.base).score
     best = min(candidates, key=lambda c: c.score.overall)
-    n_eff = max(effective_samples(best.score.residual), float(independent))
+    n_eff = max(effective_samples(best.score.residual), float(trial.data.independent))
+    floor_rms = trial.floor.rms()
+    ranked = []
     for c in candidates:
-        c.delta_aic, c.delta_bic = information_criteria(base.score, c.score, c.n_params, n_eff)
-        c.explained_rms = float(np.sqrt(max(base.score.overall ** 2 - c.score.overall ** 2,
-                                            0.0)))
-        c.noise_rms = noise
-    return sorted(candidates, key=lambda c: (not earns_place(c, options), c.delta_bic))
-
-
-def earns_place(c: Candidate, options: DiagnoseOptions) -> bool:
-    """True if ``c`` was fitted and cuts the held-out residual enough, with a clear BIC gain,
-    an explained error well above the sensor noise, and plausible values.
-
-    The noise test matters once the model is nearly right: the last few
-    per cent of a small residual are partly the prediction's own floor
-    (unmeasured gas temperature, stick-slip timing), which a sliver of almost
-    any effect can mimic; a discrepancy below the sensor noise is no finding.
-    """
-    return (c.fitted and c.plausible and c.error_reduction >= options.min_reduction
-            and c.delta_bic <= options.min_delta_bic
-            and c.explained_rms >= options.min_noise_ratio * c.noise_rms)
-
-
-def shortfalls(c: Candidate, options: DiagnoseOptions) -> list[str]:
-    """The tests of :func:`earns_place` that ``c`` fails, in words."""
-    out = []
-    if not c.fitted:
-        out.append('it was screened out before a full fit')
-    if c.error_reduction < options.min_reduction:
-        out.append(f'needs {100 * options.min_reduction:.0f} %')
-    if c.delta_bic > options.min_delta_bic:
-        out.append(f'BIC gain {-c.delta_bic:.1f} < {-options.min_delta_bic:g}')
-    if c.explained_rms < options.min_noise_ratio * c.noise_rms:
-        out.append(f'the error it explains ({c.explained_rms:.3g}) is under '
-                   f'{options.min_noise_ratio:g} x the sensor noise ({c.noise_rms:.3g})')
-    out += c.problems
-    return out
+        aic, bic = information_criteria(ref.overall ** 2, c.score.overall ** 2, c.n_params,
+                                        n_eff)
+        explained = explained_rms(ref, c.score)
+        ranked.append(replace(c, delta_aic=aic, delta_bic=bic,
+                              gain_p_value=gain_p_value(ref, c.score, c.n_params, trial.data.independent),
+                              level=trial.levels.candidate, explained_rms=explained,
+                              size_in_floor=explained / max(floor_rms, 1e-300),
+                              noise_rms=trial.noise))
+    return sorted(ranked, key=lambda c: (not earns_place(c, trial.options), c.delta_bic))

@@ -1,0 +1,47 @@
+"""The frozen context of one diagnosis: the data split, the model as given, what is refitted,
+the options, the sensor noise and the record's prediction floor."""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from .candidates import Baseline
+from .criteria import Departures, Levels, departures
+from .data import Data
+from .floor import Floor
+from .options import DiagnoseOptions
+from .scoring import Score
+
+
+@dataclass(frozen=True)
+class Trial:
+    """Everything the candidates are fitted on and judged against, built once.
+
+    Attributes
+    ----------
+    data : Data
+        The experiments, decimated and split into fitted and held-out parts.
+    base : Baseline
+        The model as given (its free keys fitted) and its held-out score.
+    free : tuple of str
+        Keys refitted with every candidate.
+    options : DiagnoseOptions
+        Fit, scoring and decision settings.
+    noise : float
+        Sensor noise as left in the smoothed residual [normalised] (for reference).
+    floor : Floor
+        What the fitted model itself leaves on replicas of these records.
+    levels : Levels
+        Significance levels of the departure and candidate tests.
+    """
+
+    data: Data
+    base: Baseline
+    free: tuple[str, ...]
+    options: DiagnoseOptions
+    noise: float
+    floor: Floor
+    levels: Levels
+
+    def departures(self, score: Score) -> Departures:
+        """``score`` against the floor, per channel and pooled."""
+        return departures(score, self.floor, self.levels.departure)

@@ -1,0 +1,72 @@
+"""Calibrated judgement (issue 15): every status is a test against the record's own prediction
+floor, checked on records unlike the hidden-effect sets (``pneumatic_servo.synth.varied``:
+other sample rates, sensor grades, encoders, controllers and integrators).
+
+The full false-alarm and power study is ``benchmarks/bench_judgement.py``; this is its small
+version.
+"""
+import numpy as np
+import pytest
+
+from pneumatic_servo.analysis.diagnosis import DiagnoseOptions, diagnose
+from pneumatic_servo.analysis.diagnosis.criteria import Levels, Status, gain_p_value
+from pneumatic_servo.analysis.diagnosis.floor import Floor, quantum
+from pneumatic_servo.analysis.diagnosis.scoring import Score
+from pneumatic_servo.synth.varied import Record, make_record
+
+#: clean records of designs the project's thresholds were never tuned on
+CLEAN = [
+    Record('closed_steps', 500.0, 10.0, 'laboratory', 4096, 'pid', {'kp': 8.0, 'kd': 0.1},
+           'rk4', seed=3),
+    Record('closed_sine', 250.0, 10.0, 'low_cost', 20000, 'smc', seed=4),
+    Record('chirp', 1000.0, 10.0, 'industrial', 4096, integrator='tight', seed=5),
+]
+
+
+@pytest.mark.parametrize('rec', CLEAN, ids=lambda r: r.label)
+def test_clean_records_of_varied_designs_are_consistent(rec):
+    result = diagnose([make_record(rec)], options=DiagnoseOptions(discover=False))
+    assert result.status == Status.CONSISTENT, result.reason
+    assert result.verdict == 'none'
+    tests = result.to_json()['tests']['base']
+    assert not tests['departs'] and 'overall' in tests
+
+
+def test_an_effect_in_one_channel_alone_is_not_consistent():
+    """A load torque on a pressure-controlled loop shows in the angle first; the pooled
+    residual, dominated by two pressure channels, must not hide it."""
+    rec = Record('closed_steps', 500.0, 10.0, 'industrial', 20000, 'pid', {'kp': 2.0},
+                 effects={'payload_inertia': {'payload_inertia_kg_m2': 2e-4}}, seed=7)
+    result = diagnose([make_record(rec)], effects=['external_leakage', 'dead_volume'],
+                      options=DiagnoseOptions(discover=False))
+    assert result.status != Status.CONSISTENT, result.reason
+    base = result.to_json()['tests']['base']
+    assert base['departs']
+
+
+def test_floor_test_has_its_stated_false_alarm_rate():
+    """A mean square drawn like the replicas departs at the stated level (prediction-interval
+    test on the log scale): simulated."""
+    rng = np.random.default_rng(0)
+    level, hits, trials = 0.01, 0, 4000
+    for _ in range(trials):
+        draws = np.exp(rng.normal(0.0, 0.4, 17))
+        floor = Floor({'angle': draws[:16]}, draws[:16], units=10 ** 6)
+        hits += floor.test(draws[16], 'angle').p_value <= level
+    assert hits / trials == pytest.approx(level, abs=0.006)
+
+
+def test_gain_test_and_levels():
+    base = Score({'angle': 1.0}, 1.0)
+    assert gain_p_value(base, Score({'angle': 0.5}, 0.5), 1, 40) < 1e-6
+    assert gain_p_value(base, Score({'angle': 1.01}, 1.01), 1, 40) == 1.0
+    levels = Levels.of(0.01, 3, 15)
+    assert levels.departure == pytest.approx(0.005 / 4)
+    assert levels.candidate == pytest.approx(0.005 / 15)
+
+
+def test_quantum_of_an_encoder():
+    step = 2 * np.pi / 4096
+    angle = np.round(np.linspace(0.0, 0.2, 5000) / step) * step
+    assert quantum(angle) == pytest.approx(step)
+    assert quantum(np.random.default_rng(0).normal(size=5000)) == 0.0
