@@ -326,8 +326,8 @@ CASES = [
     ('apply_onto_a_directory', ['diagnose', SINE, '--apply', F('a_dir')], 'directory',
      []),
     ('simulate_onto_existing', ['simulate', SINE, '--out', F('a_file')], 'exists', []),
-    ('min_reduction_above_1', ['diagnose', SINE, '--min-reduction', '2'], '--min-reduction',
-     []),
+    ('false_alarm_rate_above_1', ['diagnose', SINE, '--false-alarm-rate', '2'],
+     '--false-alarm-rate', []),
     # 13: hangs that became one line
     (F('fifo_csv'), ['compare', F('fifo_csv')], 'named pipe', []),
     ('fifo_metadata', ['compare', F('fifo_meta_bag')], 'named pipe', []),

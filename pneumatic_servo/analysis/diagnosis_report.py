@@ -51,6 +51,36 @@ def _status(result: Diagnosis) -> list[str]:
     return out
 
 
+def _tests(res: dict) -> list[str]:
+    """The prediction floor per channel, and the model as given and what the verdict leaves
+    against it, with p-values and the levels of the tests."""
+    tests, floor = res['tests'], res['floor']
+    models = [('model as given', tests['base'])]
+    if 'remainder' in tests:
+        models.append(('with what was found', tests['remainder']))
+    chans = [ch for ch in tests['base'] if isinstance(tests['base'][ch], dict)]
+    rows = []
+    for ch in chans:
+        cells = [html.escape(ch), f'{floor["rms"][ch]:.4g}']
+        for _, t in models:
+            d = t[ch]
+            mark = ' <b>departs</b>' if ch in t['deciding'] and d['p_value'] <= t['level'] \
+                else ('' if ch in t['deciding'] else ' (pooled only)')
+            cells.append(f'{d["ratio_to_floor"]:.2f} &times; (p = {d["p_value"]:.2g}){mark}')
+        rows.append(cells)
+    levels = tests['levels']
+    return ['<h2>The tests: against this record\'s prediction floor</h2>',
+            f'<p class="note">The floor is what the fitted model itself leaves on '
+            f'{floor["replicas"]} simulated replicas of these records (same segments, '
+            'the record\'s own sensor noise and quantisation, integrator and sampling-phase '
+            f'jitter). At a false-alarm rate of {100 * res["options"]["false_alarm_rate"]:g} % '
+            f'per record a channel departs at p &le; {levels["departure"]:.2g}; an effect '
+            f'earns its place at p &le; {levels["candidate"]:.2g} when it explains at least '
+            f'{res["options"]["practical_size"]:g} &times; the floor.</p>',
+            table(['channel', 'floor (RMS / spread)'] + [m for m, _ in models], rows,
+                  escape_header=False)]
+
+
 def _next_steps(result: Diagnosis, applied_to: str | None, emitted_to: str | None) -> str:
     steps = []
     added = result.added
@@ -70,8 +100,9 @@ def _next_steps(result: Diagnosis, applied_to: str | None, emitted_to: str | Non
         steps.append('Write the discovered correction as a user effect with '
                      '<code>--emit-effect FILE.py</code>.')
     if result.status == 'consistent':
-        steps.append('Nothing is missing at this noise level; a longer or richer record '
-                     '(steps, blocked-piston tests) would tighten the test.')
+        steps.append('Nothing is missing that this record can show against its prediction '
+                     'floor; a longer or richer record (steps, blocked-piston tests) would '
+                     'tighten the test.')
     return '<h2>What to do next</h2><ul>' + ''.join(f'<li>{s}</li>' for s in steps) + '</ul>'
 
 
@@ -130,11 +161,11 @@ def _ranking_table(ranking: list[dict]) -> str:
                           for ch, v in c['channel_error_reduction'].items())
         flag = 'yes' if c.get('earns_place') else ('implausible' if not c['plausible'] else 'no')
         rows.append([html.escape(c['effect']), params, f'{100 * c["error_reduction"]:+.1f} %',
-                     chans, f'{c["delta_bic"]:.1f}', flag,
-                     html.escape('; '.join(c['problems']))])
+                     chans, f'{c["gain_p_value"]:.2g}', f'{c["size_in_floor"]:.2f}',
+                     f'{c["delta_bic"]:.1f}', flag, html.escape('; '.join(c['problems']))])
     return table(['effect', 'fitted parameters (SI, &plusmn; 1 s.e.)', 'error reduction',
-                  'per channel', 'delta BIC', 'earns place', 'notes'], rows, 2,
-                 escape_header=False)
+                  'per channel', 'p (gain)', 'explained / floor', 'delta BIC', 'earns place',
+                  'notes'], rows, 2, escape_header=False)
 
 
 def _ladder_table(ladder: list[dict]) -> str:
@@ -161,6 +192,7 @@ def write_diagnosis_report(out_dir, result: Diagnosis, applied_to: str | None = 
     out_dir.mkdir(parents=True, exist_ok=True)
     res = result.to_json()
     body = _status(result) + [_next_steps(result, applied_to, emitted_to)]
+    body += _tests(res)
     body += _discovered(out_dir, result)
     body.append(f'<p class="note">Experiments: {html.escape(", ".join(res["experiments"]))}. '
                 f'Residuals are {res["options"]["horizon_s"]:g} s-ahead predictions from the '
