@@ -57,14 +57,14 @@ def relative(name: str) -> str:
     return name.strip('/')
 
 
-def match_topics(where: str, names: list[str], namespace: str | None,
-                 topic_map: dict[str, str] | None, strict: bool
+def match_topics(where: str, names: list[str], namespace: str | None, topic_map, strict: bool
                  ) -> tuple[dict[str, str], str, list[str]]:
-    """Map bag topic names to INTERFACES.md topics.
+    """Map bag topic names to INTERFACES.md topics (``topic_map``: bag name -> topic, a
+    mapping or pairs).
 
     Returns (interface topic -> bag name, namespace, ignored names).
     """
-    remap = {relative(k): relative(v) for k, v in (topic_map or {}).items()}
+    remap = {relative(k): relative(v) for k, v in dict(topic_map or ()).items()}
     ns = None if namespace is None else relative(namespace)
     found: dict[str, str] = {}
     prefixes: dict[str, str] = {}

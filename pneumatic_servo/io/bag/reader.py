@@ -31,7 +31,9 @@ BATCH = 4096
 @dataclass(frozen=True)
 class ReadOptions:
     """What to read of a bag; the keywords of :func:`read_bag` that choose messages.
-    ``required``: the circuit's topics must be there (a replay's raw series needs none)."""
+    ``required``: the circuit's topics must be there (a replay's raw series needs none).
+    Immutable and hashable: ``topic_map`` is kept as (bag name, topic) pairs, ``signals``
+    as a tuple."""
 
     circuit: str | None = None
     joint: str = DEFAULT_JOINT
@@ -40,9 +42,15 @@ class ReadOptions:
     start_s: float | None = None
     stop_s: float | None = None
     strict: bool = False
-    topic_map: dict | None = None
+    topic_map: tuple[tuple[str, str], ...] | None = None
     signals: tuple[str, ...] | None = None
     required: bool = True
+
+    def __post_init__(self):
+        if self.topic_map is not None and not isinstance(self.topic_map, tuple):
+            object.__setattr__(self, 'topic_map', tuple(dict(self.topic_map).items()))
+        if self.signals is not None and not isinstance(self.signals, tuple):
+            object.__setattr__(self, 'signals', tuple(self.signals))
 
     @property
     def window(self) -> bool:
@@ -349,7 +357,7 @@ def read_bag(path, *, circuit: str | None = None, joint: str = DEFAULT_JOINT,
     """
     path = Path(path)
     opts = ReadOptions(circuit, joint, namespace, time_source, start_s, stop_s, strict,
-                       topic_map, None if signals is None else tuple(signals))
+                       topic_map, signals)
     got = _read(path, opts)
     return _assemble(str(path), got.series, got.circuit, name or got.bag.name, rate_hz,
                      max_gap_s, got.meta)
