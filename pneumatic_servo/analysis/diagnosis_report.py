@@ -57,7 +57,7 @@ def _tests(res: dict) -> list[str]:
     tests, floor = res['tests'], res['floor']
     models = [('model as given', tests['base'])]
     if 'remainder' in tests:
-        models.append(('with what was found', tests['remainder']))
+        models.append(('with the best named effect', tests['remainder']))
     chans = [ch for ch in tests['base'] if isinstance(tests['base'][ch], dict)]
     rows = []
     for ch in chans:

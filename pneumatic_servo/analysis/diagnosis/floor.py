@@ -12,7 +12,7 @@ sensor noise alone. So the floor is measured on each record, by a parametric boo
   integrator and sampling phase give: an integrator tolerance drawn between a tenth of and
   three times the predictor's, and a measurement instant up to a fifth of a sample off;
 * each replica is measured with the record's own sensor noise and quantisation, both
-  estimated from the record (:func:`~.data.noise_sigma`, :func:`quantum`);
+  estimated from the records (:func:`~.data.noise_sigma`, :func:`quanta`);
 * each replica passes through the same prediction and scoring as the record.
 
 Static tables are predicted row by row by a steady-state solve; their floor is the
@@ -48,13 +48,14 @@ GROUPS = 3
 
 
 def quantum(x: np.ndarray) -> float:
-    """Quantisation step [units of x] of a signal that takes few distinct values (an encoder
-    count), else 0."""
+    """Quantisation step [units of x] of a signal whose values are whole multiples of one
+    step (an encoder count, an ADC step), else 0."""
     values = np.unique(x[np.isfinite(x)])
-    if len(values) < 3 or len(values) > 0.5 * len(x):
+    if len(values) < 3:
         return 0.0
-    steps = np.diff(values)
-    return float(np.min(steps[steps > 0]))
+    step = float(np.min(np.diff(values)))
+    counts = (values - values[0]) / step
+    return step if np.all(np.abs(counts - np.round(counts)) < 1e-3) else 0.0
 
 
 @dataclass(frozen=True)
@@ -141,16 +142,34 @@ def _measured(truth: np.ndarray, regions, phase: float, sigma: float, step: floa
     return out
 
 
+def quanta(data: Data) -> dict[str, float]:
+    """Signal -> its quantisation step [SI], the finest found in any of the time series: the
+    records of one diagnosis share their sensors, and a record that sits still (at an end
+    stop) shows no step of its own, yet reads its position to the nearest count."""
+    out: dict[str, float] = {}
+    for part in data.val:
+        if part.plan is None:
+            continue
+        for ch in part.scales:
+            sig = CHANNELS[ch].signal
+            step = quantum(part.exp[sig])
+            if step > 0:
+                out[sig] = min(step, out.get(sig, np.inf))
+    return out
+
+
 def _series_replicas(model: Model, config: ModelConfig, part: Part, count: int,
-                     rng: np.random.Generator) -> list[tuple[int, Part]]:
+                     steps: dict[str, float], rng: np.random.Generator
+                     ) -> list[tuple[int, Part]]:
     """(replica number, part) of ``count`` replicas of a time-series part, each replica cut
-    into :data:`GROUPS` parts of interleaved segments."""
+    into :data:`GROUPS` parts of interleaved segments; ``steps``: the quantisation steps
+    (:func:`quanta`)."""
     exp, plan = part.exp, part.plan
     lead = int(round(plan.lead_s / exp.dt))
     signals = [CHANNELS[ch].signal for ch in part.scales]
     sensors = {}
     for sig in signals:
-        step = quantum(exp[sig])
+        step = steps.get(sig, 0.0)
         sensors[sig] = (np.sqrt(max(noise_sigma(exp[sig]) ** 2 - step ** 2 / 12.0, 0.0)), step)
     rtols = DEFAULT_RTOL * np.exp(rng.uniform(*np.log(RTOL_FACTORS), count))
     phases = rng.uniform(0.0, PHASE_SAMPLES, count)
@@ -180,6 +199,7 @@ def measure_floor(model: Model, config: ModelConfig, data: Data, count: int, see
     """The floor of ``config`` (compiled as ``model``) on the held-out parts of ``data``,
     from ``count`` replicas."""
     rng = np.random.default_rng(seed)
+    steps = quanta(data)
     sums: dict[str, np.ndarray] = {}
     counts: dict[str, np.ndarray] = {}
 
@@ -194,7 +214,7 @@ def measure_floor(model: Model, config: ModelConfig, data: Data, count: int, see
             for j in range(count):
                 add(j, {ch: rng.normal(0.0, noise_sigma(r), len(r)) for ch, r in rows.items()})
             continue
-        for j, rep in _series_replicas(model, config, part, count, rng):
+        for j, rep in _series_replicas(model, config, part, count, steps, rng):
             add(j, residual_rows(model, [rep], [config])[0])
     channels = {ch: sums[ch] / counts[ch] for ch in sums}
     pooled = sum(sums.values()) / sum(counts.values())

@@ -6,7 +6,7 @@ from dataclasses import dataclass, field
 from ...errors import ConfigError
 from ...model.config import ModelConfig
 from .candidates import Candidate
-from .criteria import earns_place
+from .criteria import Departures, earns_place
 from .status import Finding
 from .trial import Trial
 
@@ -21,6 +21,8 @@ class Diagnosis:
     trial: Trial = field(repr=False)
     experiments: list[str]
     seconds: float
+    #: what the best named effect leaves, against its own model's floor (None without one)
+    remainder: Departures | None = None
     #: generic corrections, best first (when the status is partly_explained or unexplained)
     discovered: list = field(default_factory=list)
     ladder: list[dict] = field(default_factory=list)
@@ -54,11 +56,11 @@ class Diagnosis:
         return added_by(self.finding, self.ranking, self.discovered, self.options)
 
     def departures(self) -> dict:
-        """The model as given, and what the verdict (or the added correction) leaves,
-        against the floor."""
+        """The model as given against its floor, and what the named verdict leaves against
+        its own."""
         out = {'base': self.trial.departures(self.baseline.score).to_json()}
-        if self.added is not None:
-            out['remainder'] = self.trial.departures(self.added.score).to_json()
+        if self.remainder is not None:
+            out['remainder'] = self.remainder.to_json()
         return out
 
     def to_json(self) -> dict:

@@ -56,7 +56,7 @@ from .ladder import ladder
 from .options import DiagnoseOptions
 from .result import Diagnosis, added_by
 from .scoring import relative_fall
-from .status import Pair, decide, needs_pair
+from .status import Pair, best_named, decide, needs_pair
 from .trial import Trial
 from .validation import score_on, validate
 from .verdict import rank
@@ -159,9 +159,11 @@ def diagnose(experiments: list[Experiment], config: ModelConfig | None = None,
         joint = rank(ranking + found, trial)
         ranking = [c for c in joint if not isinstance(c, Discovered)]
         found = [c for c in joint if isinstance(c, Discovered)]
-    asked = needs_pair(trial, ranking, found)
+    first = best_named(trial, ranking)
+    left = timed('floor_of_verdict', remainder, trial, first) if first else None
+    asked = needs_pair(trial, ranking, found, left)
     pair = timed('named_pair', second_on_top, trial, *asked) if asked else None
-    finding = decide(trial, ranking, found, pair)
+    finding = decide(trial, ranking, found, left, pair)
     if finding.look_on_top:
         winner = next(c for c in ranking if c.effect == finding.verdict)
         on_top = Baseline(winner.config, winner.score, trial.base.values)
@@ -177,7 +179,8 @@ def diagnose(experiments: list[Experiment], config: ModelConfig | None = None,
     added = added_by(finding, ranking, discovered, options)
     rungs = timed('ladder', ladder, config, trial.data, added, trial.base, other)
     return Diagnosis(finding, ranking, trial, [e.name for e in experiments],
-                     time.perf_counter() - t0, discovered=discovered, ladder=rungs,
+                     time.perf_counter() - t0, remainder=left,
+                     discovered=discovered, ladder=rungs,
                      timings=timings, where=where, base_predictions=base_preds,
                      validated_on=[e.name for e in validate_on or ()])
 
@@ -218,6 +221,11 @@ def named_candidates(trial: Trial, names: list[str], progress=None) -> list[Cand
         if progress is not None:
             progress(out[-1])
     return out
+
+
+def remainder(trial: Trial, cand: Candidate):
+    """What ``cand`` leaves, against its own model's floor."""
+    return trial.departures(cand.score, trial.floor_of(cand.config))
 
 
 def second_on_top(trial: Trial, first: Candidate, second: Candidate) -> Pair:

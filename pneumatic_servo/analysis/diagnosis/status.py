@@ -17,7 +17,15 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from .candidates import Candidate
-from .criteria import Status, certain, earns_place, explained_rms, gain_p_value, shortfalls
+from .criteria import (
+    Departures,
+    Status,
+    certain,
+    earns_place,
+    explained_rms,
+    gain_p_value,
+    shortfalls,
+)
 from .trial import Trial
 from .verdict import suggest_experiment
 
@@ -68,15 +76,16 @@ def best_named(trial: Trial, ranking: list[Candidate]) -> Candidate | None:
             or next((c for c in ranking if certain(c, trial.options)), None))
 
 
-def needs_pair(trial: Trial, ranking: list[Candidate], discovered: list[Candidate]
-               ) -> tuple[Candidate, Candidate] | None:
+def needs_pair(trial: Trial, ranking: list[Candidate], discovered: list[Candidate],
+               left: Departures | None) -> tuple[Candidate, Candidate] | None:
     """(first, second) when the decision needs the second named effect fitted on top of the
-    first: the first leaves a departure, or a generic correction beats it clearly."""
+    first: what the first leaves departs (``left``), or a generic correction beats it
+    clearly."""
     first = best_named(trial, ranking)
     if first is None:
         return None
     found = next((d for d in discovered if earns_place(d, trial.options)), None)
-    if not trial.departures(first.score).departs and not (
+    if not left.departs and not (
             found is not None and clearly_better(trial, found, first)):
         return None
     second = next((c for c in ranking if c is not first and certain(c, trial.options)), None)
@@ -98,7 +107,7 @@ def _why(best: Candidate, small: bool) -> str:
     return f'{best.effect} {gain} with plausible values'
 
 
-def _named(trial: Trial, best: Candidate, ranking, pair: Pair | None,
+def _named(trial: Trial, best: Candidate, ranking, left: Departures, pair: Pair | None,
            structured: bool = False) -> Finding:
     """The finding of named effect ``best``; ``structured``: a generic correction beats it
     clearly, so what it leaves is structured even where it does not depart."""
@@ -109,7 +118,6 @@ def _named(trial: Trial, best: Candidate, ranking, pair: Pair | None,
     if ties:
         why += '; ' + ', '.join(ties) + ' explain the data about as well'
     size = 'small' if small else ''
-    left = trial.departures(best.score)
     if not left.departs and not structured:
         return Finding(Status.EXPLAINED, best.effect, ties, suggestion,
                        f'{why}; what remains is {left.words()}, as from a correct model', size)
@@ -126,17 +134,18 @@ def _named(trial: Trial, best: Candidate, ranking, pair: Pair | None,
 
 
 def decide(trial: Trial, ranking: list[Candidate], discovered: list[Candidate],
-           pair: Pair | None = None) -> Finding:
+           left: Departures | None = None, pair: Pair | None = None) -> Finding:
     """The status, verdict and reason from the ranked named candidates, the ranked generic
-    corrections and, where :func:`needs_pair` asked for it, the second named effect fitted
-    on top of the first."""
+    corrections, what the best named effect (:func:`best_named`) leaves against its own
+    floor (``left``) and, where :func:`needs_pair` asked for it, the second named effect
+    fitted on top of the first."""
     named = best_named(trial, ranking)
     found = next((d for d in discovered if earns_place(d, trial.options)), None)
     base = trial.departures(trial.base.score)
     if named is not None and found is not None and clearly_better(trial, found, named):
         both_fit = pair is not None and certain(pair.step, trial.options)
         if both_fit and not clearly_better(trial, found, pair.both):
-            return _named(trial, named, ranking, pair, structured=True)
+            return _named(trial, named, ranking, left, pair, structured=True)
         partial = tuple(c.effect for c in ranking if earns_place(c, trial.options))
         return Finding(Status.UNEXPLAINED, reason=(
             f'no name on the list fits: {named.effect} fits only part of it '
@@ -144,7 +153,7 @@ def decide(trial: Trial, ranking: list[Candidate], discovered: list[Candidate],
             f'explains the held-out data clearly better ({100 * found.error_reduction:.0f} %): '
             f'{found.interpretation}'), partial=partial or (named.effect,))
     if named is not None:
-        return _named(trial, named, ranking, pair)
+        return _named(trial, named, ranking, left, pair)
     if found is not None:
         return Finding(Status.UNEXPLAINED, reason=(
             f'the model misses the data by {base.words()} and no named effect earns its '

@@ -4,10 +4,13 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from ...model.assembly import Model
+from ...model.config import ModelConfig
 from .candidates import Baseline
 from .criteria import Departures, Levels, departures
 from .data import Data
-from .floor import Floor
+from .floor import Floor, measure_floor
+from .hosts import shared_host
 from .options import DiagnoseOptions
 from .scoring import Score
 
@@ -42,6 +45,15 @@ class Trial:
     floor: Floor
     levels: Levels
 
-    def departures(self, score: Score) -> Departures:
-        """``score`` against the floor, per channel and pooled."""
-        return departures(score, self.floor, self.levels.departure)
+    def departures(self, score: Score, floor: Floor | None = None) -> Departures:
+        """``score`` against ``floor`` (default the model as given's), per channel and
+        pooled."""
+        return departures(score, floor or self.floor, self.levels.departure)
+
+    def floor_of(self, config: ModelConfig) -> Floor:
+        """The prediction floor of another model (a candidate's) on these records: what a
+        model leaves depends on the model, so what a named effect leaves is judged against
+        its own floor, not the floor of the model it corrects."""
+        host = shared_host(config)
+        return measure_floor(Model(host), host, self.data, self.options.replicas,
+                             self.options.seed)
