@@ -14,7 +14,7 @@ import pytest
 from pneumatic_servo import effects
 from pneumatic_servo._jit import njit
 from pneumatic_servo.effects import CATALOGUE_NAMES, Component, Param
-from pneumatic_servo.effects.layout import C_TORQUE, N_CONTEXT, N_CORE_STATES, THETA
+from pneumatic_servo.effects.layout import C_TORQUE, N_CORE_STATES, THETA
 from pneumatic_servo.errors import ConfigError
 from pneumatic_servo.model import Model, ModelConfig, circuits, initial_state, simulate
 
@@ -245,10 +245,7 @@ def test_steady_state_settles_effect_states(all_effects):
     cfg = active(active(neutral, 'supply_pressure_drop'), 'valve_null_offset')
     for circuit in circuits.STATIC_CIRCUITS:
         x = circuits.steady_state(model, circuit, 7.0, SUPPLY, cfg)
-        c = np.zeros(N_CONTEXT)
-        dx = np.zeros(model.n_states)
-        model.kernels['rhs'](0.0, x, 7.0, SUPPLY, model.param_vector(cfg),
-                             circuits.CIRCUITS[circuit], c, dx)
+        _, dx = model.evaluate(x, 7.0, SUPPLY, circuit, params=model.param_vector(cfg))
         assert np.all(np.abs(dx[2]) < 1e-3) and np.all(np.abs(dx[N_CORE_STATES:]) <
                                                        1e-6 * np.abs(x[N_CORE_STATES:]) + 1e-9)
         res = circuits.static_response(model, circuit, 7.0, SUPPLY, duration_s=2.0, config=cfg)

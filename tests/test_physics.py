@@ -15,7 +15,6 @@ from pneumatic_servo.effects.layout import (
     C_MA,
     C_MB,
     CIRCUITS,
-    N_CONTEXT,
     P_A,
     P_B,
     T_A,
@@ -177,10 +176,7 @@ def test_clearance_flow_is_eq17_and_bidirectional():
 
 # --- valve symmetry --------------------------------------------------------------------------
 def _rhs(model, x, u, ps, circuit, P=None):
-    c = np.zeros(N_CONTEXT)
-    dx = np.zeros(model.n_states)
-    model.kernels['rhs'](0.0, x, u, ps, model.params if P is None else P, circuit, c, dx)
-    return c, dx
+    return model.evaluate(x, u, ps, circuit, params=P)
 
 
 def test_valve_is_symmetric_with_chambers_swapped(model):

@@ -16,7 +16,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..effects.corrections import BY_EQUATION, regressor_values
-from ..effects.layout import C_INERTIA, C_R, C_VA, C_VB, CIRCUITS, N_CONTEXT, OMEGA, P_A, P_B
+from ..effects.layout import C_INERTIA, C_R, C_VA, C_VB, N_CONTEXT, OMEGA, P_A, P_B
 from ..experiment import Experiment
 from ..model.assembly import Model
 from ..model.config import ModelConfig
@@ -38,10 +38,9 @@ def _model_rates(model: Model, config: ModelConfig, exp: Experiment, sig: dict, 
     n = len(exp.t)
     x0 = initial_state(model, config=config, circuit=exp.circuit)
     P = model.param_vector(config)
-    c, dx = np.zeros(N_CONTEXT), np.zeros(model.n_states)
+    buffers = np.zeros(N_CONTEXT), np.zeros(model.n_states)
     out = np.zeros((n, 7))
     room = config.core['room_temperature_k']
-    rhs = model.kernels['rhs']
     for k in range(n):
         x = x0.copy()
         for i, name in enumerate(('angle_rad', 'velocity_rad_s', 'p_a_pa', 'p_b_pa')):
@@ -50,7 +49,8 @@ def _model_rates(model: Model, config: ModelConfig, exp: Experiment, sig: dict, 
         for i, name in ((4, 't_a_k'), (5, 't_b_k')):
             temp = pred.get(name, [np.nan] * n)[k]
             x[i] = temp if np.isfinite(temp) else room
-        rhs(0.0, x, sig['command_v'][k], sig['supply_pa'][k], P, CIRCUITS[exp.circuit], c, dx)
+        c, dx = model.evaluate(x, sig['command_v'][k], sig['supply_pa'][k], exp.circuit,
+                               params=P, out=buffers)
         out[k] = (dx[OMEGA], dx[P_A], dx[P_B], c[C_INERTIA], c[C_VA], c[C_VB], c[C_R])
     return out.T
 

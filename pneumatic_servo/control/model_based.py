@@ -1,6 +1,6 @@
 """Model-based position control: a sliding mode on the angle with the valve inverted through
-the model core. Pure (no ROS); uses the compiled right-hand side of
-:class:`pneumatic_servo.model.Model`.
+the model core. Pure (no ROS); uses the model's right-hand side
+(:meth:`pneumatic_servo.model.Model.evaluate`).
 
 The actuator is third order from the valve to the angle: the valve sets the
 chamber pressure *rates*, the pressure difference sets the acceleration. With
@@ -91,15 +91,13 @@ class SlidingModeController(ControlLaw):
         self.supply_pa = core['supply_pressure_pa'] if supply_pa is None else supply_pa
         self.room_k = core['room_temperature_k']
         self._x = initial_state(model)
-        self._c = np.zeros(N_CONTEXT)
-        self._dx = np.zeros(model.n_states)
-        self._rhs = model.kernels['rhs']
-        self._P = model.params
-        self.area_df = self._P[K_AREA] * self._P[K_DF]
-        self.stroke = self._P[K_STROKE]
+        self._out = np.zeros(N_CONTEXT), np.zeros(model.n_states)  # filled by each evaluation
+        P = model.params
+        self.area_df = P[K_AREA] * P[K_DF]
+        self.stroke = P[K_STROKE]
         # total inertia as the core computes it (pistons, gear and any payload effect)
-        self._rhs(0.0, self._x, 5.0, self.supply_pa, self._P, SERVO, self._c, self._dx)
-        self.inertia = float(self._c[C_INERTIA])
+        c, _ = model.evaluate(self._x, 5.0, self.supply_pa, SERVO, out=self._out)
+        self.inertia = float(c[C_INERTIA])
 
     def reset(self) -> None:
         super().reset()
@@ -117,8 +115,8 @@ class SlidingModeController(ControlLaw):
 
     def _rates(self, t, x, u, ps):
         """(d(p_a - p_b)/dt [Pa/s], angular acceleration [rad/s^2]) at command ``u``."""
-        self._rhs(t, x, u, ps, self._P, SERVO, self._c, self._dx)
-        return self._dx[P_A] - self._dx[P_B], self._dx[OMEGA]
+        _, dx = self.model.evaluate(x, u, ps, SERVO, t=t, out=self._out)
+        return dx[P_A] - dx[P_B], dx[OMEGA]
 
     def update(self, t: float, ref: Reference, m: Measurement) -> float:
         """Valve command [V] at ``t`` [s] for ``ref`` given ``m`` (needs both pressures)."""

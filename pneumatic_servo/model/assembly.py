@@ -11,7 +11,14 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..effects.base import Component
-from ..effects.layout import CORE_PARAMS, CORE_STATE_ABS_TOL, CORE_STATE_NAMES, N_CORE_STATES
+from ..effects.layout import (
+    CIRCUITS,
+    CORE_PARAMS,
+    CORE_STATE_ABS_TOL,
+    CORE_STATE_NAMES,
+    N_CONTEXT,
+    N_CORE_STATES,
+)
 from . import culprit, kernel_cache
 from .config import SLOTS, ModelConfig
 
@@ -100,6 +107,43 @@ class Model:
             if comp.name == owner:
                 return p0 + [p.name for p in comp.params].index(name)
         raise KeyError(key)
+
+    def evaluate(self, x: np.ndarray, command_v: float, supply_pa: float,
+                 circuit: str | int = 'servo', *, params: np.ndarray | None = None,
+                 t: float = 0.0, out: tuple[np.ndarray, np.ndarray] | None = None
+                 ) -> tuple[np.ndarray, np.ndarray]:
+        """One evaluation of the compiled right-hand side: (context, derivative) at state ``x``.
+
+        Parameters
+        ----------
+        x : numpy.ndarray
+            Full state vector [SI] (``state_names``).
+        command_v : float [V]
+            Valve command.
+        supply_pa : float [Pa, absolute]
+            Supply pressure.
+        circuit : str or int
+            A circuit name (``servo``, ``blocked``, ``closed_port``, ``flow``) or its index
+            in ``effects.layout.CIRCUITS``.
+        params : numpy.ndarray, optional
+            Parameter vector (``param_vector``): other values for the same composition
+            (default this model's config's).
+        t : float [s]
+            Time, for hooks that read it.
+        out : (context, derivative), optional
+            Arrays to fill instead of new ones (an inner loop that evaluates often).
+
+        Returns
+        -------
+        (context, derivative) : tuple of numpy.ndarray
+            The named totals of ``effects.layout`` (flows, torque, inertia, volumes, ...)
+            and dx/dt [SI per s].
+        """
+        c, dx = out if out is not None else (np.zeros(N_CONTEXT), np.zeros(self.n_states))
+        self.kernels['rhs'](t, x, float(command_v), float(supply_pa),
+                            self.params if params is None else params,
+                            CIRCUITS[circuit] if isinstance(circuit, str) else circuit, c, dx)
+        return c, dx
 
     def delays(self, config: ModelConfig | None = None) -> tuple[float, float]:
         """(input delay, output delay) [s] summed over the components."""

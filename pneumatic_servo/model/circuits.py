@@ -39,8 +39,6 @@ from ..effects.layout import (
     C_MA,
     C_MSUP,
     CIRCUITS,
-    FLOW,
-    N_CONTEXT,
     N_CORE_STATES,
     P_A,
     P_B,
@@ -70,20 +68,11 @@ def gauge_supply_pa(gauge_pa: float, config: ModelConfig | None = None) -> float
     return float(gauge_pa) + cfg.core['atmospheric_pressure_pa']
 
 
-def _evaluate(model: Model, P: np.ndarray, x: np.ndarray, voltage_v: float, supply_pa: float,
-              circuit: int) -> tuple[np.ndarray, np.ndarray]:
-    """(context, derivative) vectors of the compiled rhs at state ``x``."""
-    c = np.zeros(N_CONTEXT)
-    dx = np.zeros(model.n_states)
-    model.kernels['rhs'](0.0, x, float(voltage_v), float(supply_pa), P, circuit, c, dx)
-    return c, dx
-
-
 def _net_inflow(model, P, x, voltage_v, supply_pa, circuit, p, chamber=0):
     """Net mass inflow [kg/s] into a chamber (0 = a, 1 = b) with its pressure set to ``p``."""
     x = x.copy()
     x[P_A + chamber] = p
-    return _evaluate(model, P, x, voltage_v, supply_pa, circuit)[0][C_MA + chamber]
+    return model.evaluate(x, voltage_v, supply_pa, circuit, params=P)[0][C_MA + chamber]
 
 
 def _solve_pressure(model, P, x, voltage_v, supply_pa, circuit, pe, chamber=0) -> float:
@@ -114,7 +103,7 @@ def _solve_temperature(model, P, x, voltage_v, supply_pa, circuit, temps) -> flo
     def g(temp):
         xt = x.copy()
         xt[T_A] = temp
-        return _evaluate(model, P, xt, voltage_v, supply_pa, circuit)[1][T_A]
+        return model.evaluate(xt, voltage_v, supply_pa, circuit, params=P)[1][T_A]
     lo, hi = min(temps) - 1.0, max(temps) + 1.0
     g_lo, g_hi = g(lo), g(hi)
     if g_lo * g_hi > 0.0:
@@ -158,7 +147,7 @@ def _polish(model, P, x, voltage_v, supply_pa, circuit, free) -> np.ndarray:
     def resid(z):
         xt = x.copy()
         xt[free] = z * scale
-        return _evaluate(model, P, xt, voltage_v, supply_pa, circuit)[1][free] / scale
+        return model.evaluate(xt, voltage_v, supply_pa, circuit, params=P)[1][free] / scale
 
     from scipy.optimize import root
     sol = root(resid, x[free] / scale, method='hybr', options={'xtol': 1e-12})
@@ -225,7 +214,7 @@ def steady_state(model=None, circuit: str = 'closed_port', voltage_v: float = 5.
     x = initial_state(model, p_b_pa=None if blocked else ps, t_b_k=ts, command_v=voltage_v,
                       supply_pa=ps, config=cfg, circuit=circuit)
     x[T_A] = ts
-    isothermal = _evaluate(model, P, x, voltage_v, ps, cid)[0][C_ISOTHERMAL] > 0.5
+    isothermal = model.evaluate(x, voltage_v, ps, cid, params=P)[0][C_ISOTHERMAL] > 0.5
     if isothermal:
         x[T_A] = x[T_B] = te  # an isothermal chamber keeps the room temperature it starts at
     free = _free_states(model, isothermal, 2 if blocked else 1)
@@ -239,10 +228,10 @@ def steady_state(model=None, circuit: str = 'closed_port', voltage_v: float = 5.
         # brentq's root is final: where Eq. 8 jumps at p_d/p_u = b the net flow can change
         # sign without passing zero, and the chamber then rests at the jump
         return x
-    dx = _evaluate(model, P, x, voltage_v, ps, cid)[1]
+    dx = model.evaluate(x, voltage_v, ps, cid, params=P)[1]
     if not _is_steady(dx, x, free):
         x = _polish(model, P, x, voltage_v, ps, cid, free)
-        dx = _evaluate(model, P, x, voltage_v, ps, cid)[1]
+        dx = model.evaluate(x, voltage_v, ps, cid, params=P)[1]
         if not (np.all(np.isfinite(x)) and _is_steady(dx * 1e-3, x, free)):
             raise SimulationError(f'no steady state found for the {circuit} circuit at '
                                   f'{voltage_v:g} V, {ps:.6g} Pa; simulate it in time instead')
@@ -298,7 +287,7 @@ def steady_flow(model=None, voltage_v: float = 5.0, supply_pa: float | None = No
     cfg = config or model.config
     x = steady_state(model, 'flow', voltage_v, supply_pa, cfg)
     ps = cfg.core['supply_pressure_pa'] if supply_pa is None else supply_pa
-    c, _ = _evaluate(model, model.param_vector(cfg), x, voltage_v, ps, FLOW)
+    c, _ = model.evaluate(x, voltage_v, ps, 'flow', params=model.param_vector(cfg))
     return float(x[P_A]), float(c[C_M4]), float(c[C_M5])
 
 
@@ -312,7 +301,7 @@ def steady_outputs(model=None, circuit: str = 'closed_port', voltage_v: float = 
     cfg = config or model.config
     ps = cfg.core['supply_pressure_pa'] if supply_pa is None else supply_pa
     x = steady_state(model, circuit, voltage_v, ps, cfg)
-    c, _ = _evaluate(model, model.param_vector(cfg), x, voltage_v, ps, CIRCUITS[circuit])
+    c, _ = model.evaluate(x, voltage_v, ps, circuit, params=model.param_vector(cfg))
     return {'p_a_pa': float(x[P_A]), 't_a_k': float(x[T_A]), 'p_b_pa': float(x[P_B]),
             't_b_k': float(x[T_B]), 'm4_kg_s': float(c[C_M4]), 'm5_kg_s': float(c[C_M5]),
             'supply_mass_flow_kg_s': float(c[C_MSUP])}

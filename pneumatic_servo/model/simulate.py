@@ -134,10 +134,8 @@ def context(model: Model, x: np.ndarray, command_v: float, supply_pa: float,
     inertia on the shaft, flows, volumes) after one evaluation of the right-hand side at
     state ``x`` [SI], with every component's contribution."""
     cfg = config or model.config
-    c, dx = np.zeros(N_CONTEXT), np.zeros(model.n_states)
-    model.kernels['rhs'](0.0, np.asarray(x, float), command_v, supply_pa,
-                         model.param_vector(cfg), CIRCUITS[circuit], c, dx)
-    return c
+    return model.evaluate(np.asarray(x, float), command_v, supply_pa, circuit,
+                          params=model.param_vector(cfg))[0]
 
 
 def _settle_effect_states(model: Model, x: np.ndarray, command_v: float, supply_pa: float,
@@ -146,17 +144,17 @@ def _settle_effect_states(model: Model, x: np.ndarray, command_v: float, supply_
     first = N_CORE_STATES
     if model.n_states == first:
         return
-    rhs = model.kernels['rhs']
-    c, dx = np.zeros(N_CONTEXT), np.zeros(model.n_states)
+    out = np.zeros(N_CONTEXT), np.zeros(model.n_states)
+    dx = out[1]
     tol = model.abs_tol
     for _ in range(iterations):
-        rhs(0.0, x, command_v, supply_pa, P, circuit, c, dx)
+        model.evaluate(x, command_v, supply_pa, circuit, params=P, out=out)
         f = dx[first:].copy()
         moved = False
         for j, i in enumerate(range(first, model.n_states)):
             h = 1e-6 * max(abs(x[i]), tol[i] * 1e3)
             x[i] += h
-            rhs(0.0, x, command_v, supply_pa, P, circuit, c, dx)
+            model.evaluate(x, command_v, supply_pa, circuit, params=P, out=out)
             x[i] -= h
             slope = (dx[i] - f[j]) / h
             if slope < 0.0:  # a stable own state: step to where its derivative vanishes
