@@ -230,7 +230,7 @@ class Float64Codec(Codec):
     def encode(self, stamps_ns, fields: dict, joint: str = '', frame_id: bytes = b''
                ) -> list[bytes]:
         """Messages carrying ``fields['data']`` (no header: ``stamps_ns`` is not used)."""
-        values = np.asarray(fields['data'], dtype='<f8')
+        values = np.ascontiguousarray(fields['data'], dtype='<f8')
         rows = np.empty((len(values), 12), np.uint8)
         rows[:, :4] = np.frombuffer(cdr.HEADER, np.uint8)
         rows[:, 4:] = values.reshape(-1, 1).view(np.uint8)
