@@ -7,8 +7,9 @@
 2. The phases of a warm run in one process: start-up (the imports the verb makes), bag read,
    simulation (kernels loaded from the cache, numba's start included), bag write.
 
-The machine is shared: the load average is printed with the figures, and the best of
-several warm runs is the figure (the median beside it).
+The machine is shared: the load average is printed with the figures, the best of several
+warm runs is the figure (the median beside it), and the process's CPU time (user + system)
+says what it takes where it has a core to itself.
 
 Usage: ``python benchmarks/bench_simulate.py [--bag DIR] [--runs 5]``
 """
@@ -16,6 +17,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import resource
 import statistics
 import subprocess
 import sys
@@ -55,10 +57,14 @@ def load() -> str:
     return ' '.join(f'{x:.2f}' for x in os.getloadavg())
 
 
-def timed(cmd: list[str], env: dict) -> float:
+def timed(cmd: list[str], env: dict) -> tuple[float, float]:
+    """(wall time, CPU time: user + system) [s] of one run of ``cmd``."""
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
     t0 = time.perf_counter()
     subprocess.run(cmd, check=True, env=env, capture_output=True)
-    return time.perf_counter() - t0
+    wall = time.perf_counter() - t0
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return wall, (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
 
 
 def simulate_figures(work: Path, bag: Path = BAG, runs: int = 5) -> float:
@@ -67,11 +73,13 @@ def simulate_figures(work: Path, bag: Path = BAG, runs: int = 5) -> float:
     env = {**os.environ, 'PNEUMATIC_SERVO_CACHE': str(work / 'kernel_cache')}
     cmd = [str(BIN / 'pneumatic-servo'), 'simulate', str(bag), '--out']
     print(f'load average before: {load()}')
-    cold = timed(cmd + [str(work / 'sim_cold')], env)
-    warm = [timed(cmd + [str(work / f'sim_warm{i}')], env) for i in range(runs)]
-    best, median = min(warm), statistics.median(warm)
+    cold = timed(cmd + [str(work / 'sim_cold')], env)[0]
+    runs_ = [timed(cmd + [str(work / f'sim_warm{i}')], env) for i in range(runs)]
+    warm = [w for w, _ in runs_]
+    best, median, cpu = min(warm), statistics.median(warm), min(c for _, c in runs_)
     print(f'simulate, 10 s at 1 kHz, whole process: first run {cold:.2f} s (compiling), then '
-          f'{best:.2f} s best, {median:.2f} s median of {runs} (load average now {load()})')
+          f'{best:.2f} s best, {median:.2f} s median of {runs} (load average now {load()}); '
+          f'CPU time {cpu:.2f} s (what an idle core takes: {10.0 / cpu:.1f}x)')
     print(f'warm simulate 10 s 1 kHz bag: {10.0 / best:.1f}x real time (target >= '
           f'{TARGET:.0f}x); median {10.0 / median:.1f}x')
     phases = []
