@@ -222,6 +222,8 @@ class Candidate:
     explained_rms: float = 0.0
     size_in_floor: float = 0.0
     noise_rms: float = 0.0
+    #: the reference it was judged against departs from its floor (:mod:`.criteria`)
+    reference_departs: bool = False
 
     @property
     def plausible(self) -> bool:
@@ -242,6 +244,7 @@ class Candidate:
                 'explained_rms': self.explained_rms, 'noise_rms': self.noise_rms,
                 'gain_p_value': self.gain_p_value, 'level': self.level,
                 'size_in_floor': self.size_in_floor,
+                'reference_departs': self.reference_departs,
                 'converged': self.converged, 'fitted': self.fitted,
                 'undetermined': dict(self.undetermined),
                 'validation': self.validation.to_json() if self.validation else None,

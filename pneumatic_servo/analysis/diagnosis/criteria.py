@@ -15,7 +15,9 @@ The error budget: a record of a correct model is called anything but ``consisten
 probability at most ``false_alarm_rate`` (default 1 %). Half of it goes to the departure
 tests (Bonferroni over the channels and the pooled residual), half to the candidates
 (Bonferroni over every named effect and generic correction tried). An effect **earns its
-place** when every criterion of :data:`EARNS_PLACE` holds: its gain is significant at its
+place** when every criterion of :data:`EARNS_PLACE` holds: the model it corrects departs
+from its floor (there is something to explain: a record at its floor gives no effect a
+place, however a long record sharpens the gain test), and its gain is significant at its
 level and of practical size (the error it explains, as a share of the floor). A significant
 gain below the practical size is **certain but small**: reported, never hidden.
 """
@@ -117,6 +119,9 @@ def explained_rms(reference: Score, candidate: Score) -> float:
 #: one declaration of earning a place: :func:`earns_place`, :func:`certain` and
 #: :func:`shortfalls` read it.
 EARNS_PLACE = (
+    ('something to explain', lambda c, o: c.reference_departs,
+     lambda c, o: 'the model it corrects does not depart from its prediction floor: there is '
+                  'nothing to explain'),
     ('fitted', lambda c, o: c.fitted, lambda c, o: 'it was screened out before a full fit'),
     ('plausible', lambda c, o: c.plausible, lambda c, o: '; '.join(c.problems)),
     ('significant', lambda c, o: c.gain_p_value <= c.level,

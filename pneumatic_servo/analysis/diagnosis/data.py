@@ -37,13 +37,24 @@ def smoothing_width(smooth_s: float, dt: float) -> int:
     return int(round(smooth_s / dt)) | 1
 
 
+def fit_factor(exp: Experiment, options: DiagnoseOptions) -> int:
+    """How much the fitted part of ``exp`` is decimated: to about ``options.fit_rate_hz``
+    (1 for a static table, or when that rate is 0)."""
+    if exp.static or not options.fit_rate_hz:
+        return 1
+    return max(1, int(1.0 / (exp.dt * options.fit_rate_hz) + 1e-9))
+
+
 def split(exp: Experiment, scales: dict, options: DiagnoseOptions) -> tuple[Part, Part]:
     """(fit part, validation part) of one experiment.
 
     Tables alternate rows. Time series are cut into segments that start at
     quiet samples (:func:`~pneumatic_servo.prediction.quiet_starts`); whole
     blocks of segments alternate between fitting and validation, so the
-    validation data are not interleaved with the fitted samples.
+    validation data are not interleaved with the fitted samples. The fitted part is
+    decimated to about ``options.fit_rate_hz`` (:func:`fit_factor`): a fit simulates it
+    many times, while the held-out part, which every statement is judged on, keeps the
+    record's own rate.
     """
     if exp.static:
         idx = np.arange(len(exp.t))
@@ -57,9 +68,15 @@ def split(exp: Experiment, scales: dict, options: DiagnoseOptions) -> tuple[Part
     if not val or not fit:  # too short for blocks: alternate segments
         segs = list(plan.segments)
         fit, val = segs[0::2], segs[1::2] or segs[:1]
-    width = smoothing_width(options.smooth_s, exp.dt)
-    return (Part(exp, scales, plan.subset(fit), smooth=width),
-            Part(exp, scales, plan.subset(val), smooth=width))
+    q = fit_factor(exp, options)
+    coarse = decimate(exp, q)
+    n = len(coarse.t)
+    fit = [(a // q, min(-(-b // q), n)) for a, b in fit]
+    fit = [(a, b) for a, b in fit if b - a >= 2]
+    return (Part(coarse, scales, plan.subset(fit), smooth=smoothing_width(options.smooth_s,
+                                                                          coarse.dt)),
+            Part(exp, scales, plan.subset(val), smooth=smoothing_width(options.smooth_s,
+                                                                       exp.dt)))
 
 
 def noise_sigma(x: np.ndarray) -> float:

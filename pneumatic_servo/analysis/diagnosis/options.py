@@ -12,6 +12,9 @@ FALSE_ALARM_RATE = 0.01
 PRACTICAL_SIZE = 0.5
 #: replicas of the record simulated to measure its prediction floor (:mod:`.floor`)
 REPLICAS = 16
+#: [Hz] the fitted parts are decimated to about this rate: a fit simulates them many times,
+#: and 250 Hz resolves the actuator's dynamics (the committed test records are at 250 Hz)
+FIT_RATE_HZ = 250.0
 #: two candidates whose held-out residuals differ by less than this fraction explain
 #: the data about equally
 AMBIGUITY = 0.05
@@ -37,6 +40,9 @@ class DiagnoseOptions:
     decimate : int
         Keep every n-th sample (command averaged over the n) when fitting and
         scoring: simulation cost is set by the number of input intervals.
+    fit_rate_hz : float [Hz]
+        The fitted parts are decimated to about this rate (0: not at all); the held-out
+        parts, the floor and every statement keep the record's own rate.
     max_iter : int
         Solver iterations per candidate after the bracket search.
     refit_present : bool
@@ -75,6 +81,7 @@ class DiagnoseOptions:
     smooth_s: float = 0.01
     blocks: int = 4
     decimate: int = 1
+    fit_rate_hz: float = FIT_RATE_HZ
     max_iter: int = 6
     full_fits: int = 4
     refit_present: bool = True

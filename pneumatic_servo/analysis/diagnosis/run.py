@@ -146,8 +146,8 @@ def diagnose(experiments: list[Experiment], config: ModelConfig | None = None,
     options = options or DiagnoseOptions()
     config = config or ModelConfig.paper()
     names = candidate_effects(config, effects)
-    trial = timed('prepare', prepare, experiments, config, free, options)
-    trial = timed('baseline', with_floor, trial, len(names))
+    data, base, free = timed('prepare', prepare, experiments, config, free, options)
+    trial = timed('floor', make_trial, data, base, free, options, len(names))
     base_preds = timed('where', predictions, trial.base.config, trial.data)
     where = where_it_fails(trial.data.experiments, base_preds, trial.base.config)
     ranking = rank(timed('named', named_candidates, trial, names, progress), trial)
@@ -162,14 +162,14 @@ def diagnose(experiments: list[Experiment], config: ModelConfig | None = None,
     first = best_named(trial, ranking)
     left = timed('floor_of_verdict', remainder, trial, first) if first else None
     asked = needs_pair(trial, ranking, found, left)
-    pair = timed('named_pair', second_on_top, trial, *asked) if asked else None
+    pair = timed('named_pair', second_on_top, trial, *asked, left) if asked else None
     finding = decide(trial, ranking, found, left, pair)
     if finding.look_on_top:
         winner = next(c for c in ranking if c.effect == finding.verdict)
         on_top = Baseline(winner.config, winner.score, trial.base.values)
         found = timed('discovery_on_top', look_for_terms, replace(
             trial, free=trial.free + tuple(present_keys(winner.config))), on_top, progress,
-            on_top)
+            on_top, True)
     other = Data.of(validate_on, options) if validate_on else None
     if other is not None:
         ranking, found, finding = timed('validation', validated, trial, ranking, found,
@@ -186,26 +186,28 @@ def diagnose(experiments: list[Experiment], config: ModelConfig | None = None,
 
 
 def prepare(experiments: list[Experiment], config: ModelConfig, free, options: DiagnoseOptions
-            ) -> Trial:
-    """The data split and the model as given, its free keys fitted (no floor yet)."""
+            ) -> tuple[Data, Baseline, tuple[str, ...]]:
+    """The data split, the model as given with its free keys fitted, and the keys refitted
+    with every candidate."""
     free = list(free)
     for key in free:
         config.get(key)  # a clear error for an unknown key
     if options.refit_present:
         free += [k for k in present_keys(config) if k not in free]
     data = Data.of(experiments, options)
-    base = baseline(config, data, free, options)
-    return Trial(data, base, tuple(free), options, 0.0, None, None)
+    return data, baseline(config, data, free, options), tuple(free)
 
 
-def with_floor(trial: Trial, named: int) -> Trial:
-    """``trial`` with its sensor noise, prediction floor and test levels."""
-    host = shared_host(trial.base.config)
+def make_trial(data: Data, base: Baseline, free: tuple[str, ...], options: DiagnoseOptions,
+               named: int) -> Trial:
+    """The frozen context of the diagnosis: with the sensor noise, the prediction floor of
+    the model as given and the test levels for ``named`` candidates and the discovery."""
+    host = shared_host(base.config)
     model = Model(host)
-    floor = measure_floor(model, host, trial.data, trial.options.replicas, trial.options.seed)
-    tries = named + (trial.options.discovery_fits if trial.options.discover else 0)
-    levels = Levels.of(trial.options.false_alarm_rate, len(floor.series_channels), tries)
-    return replace(trial, noise=trial.data.noise(model, host), floor=floor, levels=levels)
+    floor = measure_floor(model, host, data, options.replicas, options.seed)
+    tries = named + (options.discovery_fits if options.discover else 0)
+    levels = Levels.of(options.false_alarm_rate, len(floor.series_channels), tries)
+    return Trial(data, base, free, options, data.noise(model, host), floor, levels)
 
 
 def named_candidates(trial: Trial, names: list[str], progress=None) -> list[Candidate]:
@@ -228,13 +230,14 @@ def remainder(trial: Trial, cand: Candidate):
     return trial.departures(cand.score, trial.floor_of(cand.config))
 
 
-def second_on_top(trial: Trial, first: Candidate, second: Candidate) -> Pair:
-    """``second`` fitted on top of ``first``: the step judged against ``first``, the two
-    together against the model as given."""
+def second_on_top(trial: Trial, first: Candidate, second: Candidate, left) -> Pair:
+    """``second`` fitted on top of ``first``: the step judged against ``first`` (whose
+    remainder against its own floor is ``left``), the two together against the model as
+    given."""
     with_first = Baseline(first.config, first.score, trial.base.values)
     step = try_effect(screen_effect(second.effect, with_first, trial.data), with_first,
                       trial.data, list(trial.free), trial.options)
-    step = rank([step], trial, with_first)[0]
+    step = rank([step], trial, with_first, left.departs)[0]
     both = replace(step, n_params=step.n_params + first.n_params,
                    error_reduction=relative_fall(step.score.overall,
                                                  trial.base.score.overall))
@@ -255,11 +258,12 @@ def validated(trial: Trial, ranking, found, finding, other: Data):
     return ranking, found, finding
 
 
-def look_for_terms(trial: Trial, base: Baseline, progress=None, reference=None) -> list:
+def look_for_terms(trial: Trial, base: Baseline, progress=None, reference=None,
+                   departs=None) -> list:
     """Generic corrections of ``base``, confirmed and ranked best first (:mod:`.discovery`)."""
     n_eff = max(effective_samples(base.score.residual), float(trial.data.independent))
     found = discover(base, trial.data, list(trial.free), n_eff, trial.options)
     for term in found:
         if progress is not None:
             progress(term)
-    return rank(found, trial, reference)
+    return rank(found, trial, reference, departs)

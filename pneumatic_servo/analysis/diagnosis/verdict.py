@@ -26,10 +26,12 @@ def suggest_experiment(a: str, b: str) -> str:
             'data; ' + '; '.join(parts))
 
 
-def rank(candidates: list[Candidate], trial, reference: Baseline | None = None
-         ) -> list[Candidate]:
+def rank(candidates: list[Candidate], trial, reference: Baseline | None = None,
+         departs: bool | None = None) -> list[Candidate]:
     """Copies of ``candidates`` judged against ``reference`` (default the model as given),
     best first: those that earn their place (:mod:`.criteria`), then the rest, each by BIC.
+    ``departs``: whether ``reference`` departs from its own floor (default: tested against
+    the model as given's floor).
 
     The effective sample count of the information criterion is taken from the best
     candidate's residual (the nearest to the noise, whose correlation discounts the
@@ -39,6 +41,8 @@ def rank(candidates: list[Candidate], trial, reference: Baseline | None = None
     if not candidates:
         return []
     ref = (reference or trial.base).score
+    if departs is None:
+        departs = trial.departures(ref).departs
     best = min(candidates, key=lambda c: c.score.overall)
     n_eff = max(effective_samples(best.score.residual), float(trial.data.independent))
     floor_rms = trial.floor.rms()
@@ -51,5 +55,5 @@ def rank(candidates: list[Candidate], trial, reference: Baseline | None = None
                               gain_p_value=gain_p_value(ref, c.score, c.n_params, trial.data.independent),
                               level=trial.levels.candidate, explained_rms=explained,
                               size_in_floor=explained / max(floor_rms, 1e-300),
-                              noise_rms=trial.noise))
+                              noise_rms=trial.noise, reference_departs=departs))
     return sorted(ranked, key=lambda c: (not earns_place(c, trial.options), c.delta_bic))
