@@ -40,7 +40,8 @@ from pneumatic_servo.model import (  # noqa: E402
     simulate,
     simulate_batch,
 )
-from pneumatic_servo.model.circuits import gauge_supply_pa, sine_command  # noqa: E402
+from pneumatic_servo.model.circuits import gauge_supply_pa  # noqa: E402
+from pneumatic_servo.synth.runs import sine_command  # noqa: E402
 
 TARGET_ONE, TARGET_BATCH = 100.0, 2000.0  # [x real time]
 TARGET_ANGLE_DEG, TARGET_PRESSURE_PA = 0.01, 100.0
@@ -166,7 +167,8 @@ def batch(model, n: int, duration_s: float, repeat: int, n_check: int) -> list:
 _CHILD = r'''
 import json, time, numpy as np
 from pneumatic_servo.model import Model, initial_state, simulate
-from pneumatic_servo.model.circuits import gauge_supply_pa, sine_command
+from pneumatic_servo.model.circuits import gauge_supply_pa
+from pneumatic_servo.synth.runs import sine_command
 m = Model()
 t = np.arange(int(round({dur} * 1000)) + 1) * 1e-3
 u, ps = sine_command(t), gauge_supply_pa(0.6e6)

@@ -27,6 +27,7 @@ from pneumatic_servo.analysis.paper_figures import check_charge_discharge, sine_
 from pneumatic_servo.errors import SimulationError
 from pneumatic_servo.experiment import Experiment
 from pneumatic_servo.model import Model, ModelConfig, circuits
+from pneumatic_servo.synth import runs
 
 GAUGES = (0.5e6, 0.7e6, 0.83e6)
 
@@ -97,7 +98,7 @@ def test_flow_test_conserves_mass_and_recovers_c1_by_eq38(model):
                                         ('flow', 6.0), ('flow', 9.0)])
 def test_time_simulation_settles_on_the_steady_state(model, circuit, u):
     ps = 0.6e6 + P_E
-    res = circuits.static_response(model, circuit, u, ps, duration_s=3.0)
+    res = runs.static_response(model, circuit, u, ps, duration_s=3.0)
     steady = circuits.steady_outputs(model, circuit, u, ps)
     assert res.p_a_pa[-1] == pytest.approx(steady['p_a_pa'], abs=1.0)
     assert res.t_a_k[-1] == pytest.approx(steady['t_a_k'], abs=1e-3)
@@ -110,7 +111,7 @@ def test_steady_temperature_between_supply_and_room_when_they_differ(model):
     cfg.core['supply_temperature_k'] = 303.15
     x = circuits.steady_state(model, 'closed_port', 6.0, 0.6e6 + P_E, cfg)
     assert 293.15 < x[4] < 303.15
-    res = circuits.static_response(model, 'closed_port', 6.0, 0.6e6 + P_E, duration_s=4.0,
+    res = runs.static_response(model, 'closed_port', 6.0, 0.6e6 + P_E, duration_s=4.0,
                                    config=cfg)
     assert res.p_a_pa[-1] == pytest.approx(x[2], abs=1.0)
     assert res.t_a_k[-1] == pytest.approx(x[4], abs=1e-3)
@@ -131,7 +132,7 @@ def test_predict_static_on_a_table(model):
 # --- the paper's experiments -----------------------------------------------------------------
 def test_charge_discharge_reproduces_the_papers_claims(model):
     cfg = model.config
-    res = circuits.charge_discharge(model, duration_s=6.0)
+    res = runs.charge_discharge(model, duration_s=6.0)
     ps = circuits.gauge_supply_pa(0.6e6, cfg)
     assert res.circuit == 'blocked'
     assert res.p_a_pa[0] == P_E and res.p_b_pa[0] == ps  # the documented start
@@ -147,7 +148,7 @@ def test_charge_discharge_claims_fail_without_clearance_by_parameters(model):
     """The claims rest on the clearance: a (near) zero gap lets p_a reach supply."""
     cfg = model.config.copy()
     cfg.set('core.sleeve_bore_diameter_m', D_S + 2e-9)
-    res = circuits.charge_discharge(model, duration_s=6.0, config=cfg)
+    res = runs.charge_discharge(model, duration_s=6.0, config=cfg)
     checks = check_charge_discharge(res, cfg, step_time_s=0.1)
     assert not checks['p_a_stays_below_supply']
     assert not checks['p_b_stays_above_atmosphere']
@@ -155,7 +156,7 @@ def test_charge_discharge_claims_fail_without_clearance_by_parameters(model):
 
 @pytest.mark.parametrize('method', ['adaptive', 'fixed'])
 def test_sine_response_is_periodic_after_settling(model, method):
-    res = circuits.sine_response(model, duration_s=6.0, method=method)
+    res = runs.sine_response(model, duration_s=6.0, method=method)
     period = 500  # samples: 0.5 s at 1 kHz for 2 Hz
     last, previous = res.angle_rad[-period:], res.angle_rad[-2 * period:-period]
     assert np.abs(last - previous).max() < math.radians(0.05)

@@ -2,9 +2,9 @@
 model-discrepancy workflow.
 
 The data in ``tests/data/hidden`` are real bags and CSV tables written by
-``python -m pneumatic_servo.synth.hidden tests/data/hidden`` (same seeds, same
-records): for every catalogue effect hidden alone, a clean rig, and a rig with
-two hidden effects. Each data set has a sine, a closed-loop run and a blocked
+``python -m pneumatic_servo.synth.hidden tests/data/hidden`` (same seeds; ``synth.hidden``
+says what regenerating gives): for every catalogue effect hidden alone, a clean rig, and a
+rig with two hidden effects. Each data set has a sine, a closed-loop run and a blocked
 charge/discharge with supply steps; the effects that act in the static
 circuits add closed-port and flow-rate tables.
 """

@@ -17,6 +17,7 @@ from pneumatic_servo.effects import CATALOGUE_NAMES, Component, Param
 from pneumatic_servo.effects.layout import C_TORQUE, N_CORE_STATES, THETA
 from pneumatic_servo.errors import ConfigError
 from pneumatic_servo.model import Model, ModelConfig, circuits, initial_state, simulate
+from pneumatic_servo.synth import runs
 
 P_E = 101325.0
 SUPPLY = 0.6e6 + P_E
@@ -105,7 +106,7 @@ def lowest_valve_supply(model, cfg):
 
 def mean_angle_under_sine(model, cfg):
     """Mean angle [rad] over the last second of the 2 Hz sine response."""
-    res = circuits.sine_response(model, duration_s=3.0, config=cfg)
+    res = runs.sine_response(model, duration_s=3.0, config=cfg)
     return float(res.angle_rad[res.t >= 2.0].mean())
 
 
@@ -170,8 +171,8 @@ def test_effect_changes_behaviour_in_its_physical_direction(all_effects, name):
 
 def test_neutral_effects_reproduce_the_paper_model(all_effects):
     model, neutral = all_effects
-    res = circuits.sine_response(model, duration_s=2.0, config=neutral)
-    ref = circuits.sine_response(Model(ModelConfig.paper()), duration_s=2.0)
+    res = runs.sine_response(model, duration_s=2.0, config=neutral)
+    ref = runs.sine_response(Model(ModelConfig.paper()), duration_s=2.0)
     assert np.abs(res.angle_rad - ref.angle_rad).max() < math.radians(0.5)
     assert np.abs(res.p_a_pa - ref.p_a_pa).max() < 1e3
 
@@ -248,7 +249,7 @@ def test_steady_state_settles_effect_states(all_effects):
         _, dx = model.evaluate(x, 7.0, SUPPLY, circuit, params=model.param_vector(cfg))
         assert np.all(np.abs(dx[2]) < 1e-3) and np.all(np.abs(dx[N_CORE_STATES:]) <
                                                        1e-6 * np.abs(x[N_CORE_STATES:]) + 1e-9)
-        res = circuits.static_response(model, circuit, 7.0, SUPPLY, duration_s=2.0, config=cfg)
+        res = runs.static_response(model, circuit, 7.0, SUPPLY, duration_s=2.0, config=cfg)
         assert res.p_a_pa[-1] == pytest.approx(x[2], abs=5.0)
 
 
@@ -259,8 +260,8 @@ def test_steady_state_settles_effect_states(all_effects):
 def test_fixed_step_integrator_stays_physical_at_supply_line_bounds(all_effects, values):
     model, neutral = all_effects
     cfg = active(neutral, 'supply_pressure_drop', values)
-    fixed = circuits.sine_response(model, duration_s=0.3, method='fixed', config=cfg)
-    exact = circuits.sine_response(model, duration_s=0.3, config=cfg)
+    fixed = runs.sine_response(model, duration_s=0.3, method='fixed', config=cfg)
+    exact = runs.sine_response(model, duration_s=0.3, config=cfg)
     assert fixed.p_a_pa.max() <= SUPPLY + 1.0 and fixed['valve_supply_pressure_pa'].max() \
         <= SUPPLY + 1.0
     assert np.abs(fixed.angle_rad - exact.angle_rad).max() < math.radians(0.1)

@@ -23,7 +23,7 @@ from pneumatic_servo.identification.output_error import fit_output_error
 from pneumatic_servo.io import read_experiment
 from pneumatic_servo.model import ModelConfig
 from pneumatic_servo.physics.valve import flow_coefficient
-from pneumatic_servo.synth import DESIGNS, TRUTH_VALUES, make_experiment, synthetic_rig
+from pneumatic_servo.synth import LIBRARY, TRUTH_VALUES, make_experiment, synthetic_rig
 
 BAGS = Path(__file__).resolve().parents[1] / 'bags'
 FRICTION = ('static_friction_n', 'coulomb_friction_n', 'stribeck_velocity_rad_s',
@@ -45,7 +45,7 @@ def library():
 def fresh():
     """The identification designs again, with other noise (seed 7)."""
     cfg = synthetic_rig()
-    names = [n for n in DESIGNS if n.startswith(('flow_', 'friction_', 'heat_transfer'))]
+    names = [n for n in LIBRARY if n.startswith(('flow_', 'friction_', 'heat_transfer'))]
     from pneumatic_servo.model import Model
     model = Model(cfg)
     return {n: make_experiment(cfg, n, 7, model=model) for n in names}, cfg

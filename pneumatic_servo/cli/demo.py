@@ -34,7 +34,7 @@ class Stage:
 
 
 def _paper_figures(out_dir: Path, config, log) -> dict:
-    from ..analysis.paper_figures import run_paper_figures
+    from ..synth.paper_figures import run_paper_figures
     result = run_paper_figures(out_dir / 'figures', config, log=log)
     result['status'] = 'ok' if result['charge_discharge']['all_hold'] and result['finite'] \
         else 'failed'

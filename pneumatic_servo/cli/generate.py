@@ -30,10 +30,10 @@ def add_parser(sub) -> argparse.ArgumentParser:
 
 def run(args) -> int:
     from ..errors import ConfigError
-    from ..synth.designs import DESIGNS
+    from ..synth.designs import DESIGNS, LIBRARY
     if args.list:
-        for name, d in DESIGNS.items():
-            print(f'{name:<20} {d.circuit:<12} {d.summary}')
+        for name in LIBRARY:
+            print(f'{name:<20} {DESIGNS[name].circuit:<12} {DESIGNS[name].summary}')
         return 0
     if not args.outdir:
         raise ConfigError('give OUTDIR (e.g. bags/), or --list')

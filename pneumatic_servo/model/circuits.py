@@ -1,4 +1,4 @@
-"""The paper's four test circuits as simulation set-ups, and steady states of the static ones.
+"""The paper's four test circuits, and the steady states of the static ones.
 
 =============  ======================================================  ===========
 circuit        what is connected                                       paper
@@ -23,8 +23,10 @@ supply pressure and temperature, where a valve chamber with ports 2 and 3
 closed ends up, so that it draws no supply air (this matters for the
 supply mass flow and for ``supply_pressure_drop``).
 
-All pressures are absolute [Pa]; the paper's supply pressures are gauge
-readings (MODEL_NOTES 1), see :func:`gauge_supply_pa`.
+Any circuit is simulated in time by ``simulate(..., circuit=...)``; the paper's experiments
+in time (charge/discharge, the 2 Hz sine, a static circuit settling) are runs of
+:mod:`pneumatic_servo.synth.runs`. All pressures are absolute [Pa]; the paper's supply
+pressures are gauge readings (docs/model.md, section 1), see :func:`gauge_supply_pa`.
 """
 from __future__ import annotations
 
@@ -48,7 +50,7 @@ from ..effects.layout import (
 from ..errors import EffectError, SimulationError
 from .assembly import Model
 from .config import ModelConfig
-from .simulate import SimResult, as_model, initial_state, simulate
+from .simulate import as_model, initial_state
 
 #: supply pressure of the paper's charge/discharge and servo tests [Pa, gauge]
 PAPER_SUPPLY_GAUGE_PA = 0.6e6
@@ -347,133 +349,6 @@ def predict_static(model, exp, config: ModelConfig | None = None) -> dict[str, n
     return out
 
 
-# ----------------------------------------------------------------------- time set-ups
-def _time(duration_s: float, sample_s: float) -> np.ndarray:
-    if not (duration_s > 0 and sample_s > 0 and duration_s / sample_s >= 1):
-        raise SimulationError('duration_s and sample_s must be positive, duration >= sample')
-    return np.arange(int(round(duration_s / sample_s)) + 1) * sample_s
-
-
-def charge_discharge(model=None, supply_pa: float | None = None, start_v: float = 5.0,
-                     step_v: float = 5.5, step_time_s: float = 0.1, duration_s: float = 6.0,
-                     sample_s: float = 1e-3, method: str = 'adaptive',
-                     config: ModelConfig | None = None) -> SimResult:
-    """Charge/discharge test (Figs 21-23): pistons held, valve stepped ``start_v`` -> ``step_v``.
-
-    Parameters
-    ----------
-    model : Model, ModelConfig or None
-        The model (None: the paper's).
-    supply_pa : float [Pa, absolute]
-        Supply pressure; default 0.6 MPa gauge as in the paper.
-    start_v, step_v : float [V]
-        Valve command before and after the step (paper: 5 V -> 5.5 V).
-    step_time_s : float [s]
-        Time of the step.
-    duration_s, sample_s : float [s]
-        Length of the record and sample period.
-    method : str
-        'adaptive' (offline) or 'fixed' (real-time RK4).
-    config : ModelConfig, optional
-        Parameter values for the same composition.
-
-    Returns
-    -------
-    SimResult
-        Circuit 'blocked'; pistons at ``core.blocked_angle_rad``.
-
-    Notes
-    -----
-    The paper withholds the start values of p_a and p_b. Chamber a starts at
-    atmospheric pressure and chamber b at supply pressure, both gases at room
-    temperature: the state of a rig where a was vented and b charged before
-    the test, so that a charges and b discharges over the whole record. The
-    short hold at ``start_v`` shows the (already unbalanced) centre before
-    the step.
-    """
-    model = as_model(model)
-    cfg = config or model.config
-    ps = gauge_supply_pa(PAPER_SUPPLY_GAUGE_PA, cfg) if supply_pa is None else supply_pa
-    t = _time(duration_s, sample_s)
-    u = np.where(t < step_time_s, start_v, step_v)
-    x0 = initial_state(model, angle_rad=cfg.core['blocked_angle_rad'],
-                       p_a_pa=cfg.core['atmospheric_pressure_pa'], p_b_pa=ps,
-                       command_v=start_v, supply_pa=ps, config=cfg)
-    return simulate(model, t, u, ps, x0=x0, circuit='blocked', method=method, config=cfg)
-
-
-def sine_command(t: np.ndarray, mean_v: float = 5.0, amplitude_v: float = 0.35,
-                 frequency_hz: float = 2.0) -> np.ndarray:
-    """Valve command [V] of the paper's servo verification: mean + amplitude sin(2 pi f t)."""
-    return mean_v + amplitude_v * np.sin(2.0 * np.pi * frequency_hz * np.asarray(t))
-
-
-def sine_response(model=None, supply_pa: float | None = None, mean_v: float = 5.0,
-                  amplitude_v: float = 0.35, frequency_hz: float = 2.0,
-                  duration_s: float = 10.0, sample_s: float = 1e-3, x0=None,
-                  method: str = 'adaptive', config: ModelConfig | None = None) -> SimResult:
-    """Open-loop servo response to a sine valve command (Section 6.3, Figs 24-26).
-
-    Parameters
-    ----------
-    model : Model, ModelConfig or None
-        The model (None: the paper's).
-    supply_pa : float [Pa, absolute]
-        Supply pressure; default 0.6 MPa gauge.
-    mean_v, amplitude_v : float [V]
-        Command mean and amplitude (paper: 5 +/- 0.35 V, i.e. 4.65-5.35 V).
-    frequency_hz : float [Hz]
-        Command frequency (paper: 2 Hz).
-    duration_s, sample_s : float [s]
-        Length of the record and sample period (1 kHz by default).
-    x0 : array, optional
-        Initial state; default mid-stroke at rest, both chambers at the mean
-        of supply and atmospheric pressure, gas at room temperature (the
-        paper does not give its start state).
-    method : str
-        'adaptive' (offline) or 'fixed' (real-time RK4).
-    config : ModelConfig, optional
-        Parameter values for the same composition.
-
-    Returns
-    -------
-    SimResult
-        Circuit 'servo'.
-    """
-    model = as_model(model)
-    cfg = config or model.config
-    ps = gauge_supply_pa(PAPER_SUPPLY_GAUGE_PA, cfg) if supply_pa is None else supply_pa
-    t = _time(duration_s, sample_s)
-    u = sine_command(t, mean_v, amplitude_v, frequency_hz)
-    if x0 is None:
-        x0 = initial_state(model, command_v=u[0], supply_pa=ps, config=cfg)
-    return simulate(model, t, u, ps, x0=x0, circuit='servo', method=method, config=cfg)
-
-
-def static_response(model=None, circuit: str = 'closed_port', voltage_v: float = 5.0,
-                    supply_pa: float | None = None, duration_s: float = 1.0,
-                    sample_s: float = 1e-3, method: str = 'adaptive',
-                    config: ModelConfig | None = None) -> SimResult:
-    """A static circuit simulated in time from atmosphere at a held ``voltage_v`` [V].
-
-    The valve chamber starts at atmospheric pressure and room temperature
-    (chamber b, held still, at supply); the record approaches the steady
-    state of :func:`steady_state`.
-    """
-    model = as_model(model)
-    cfg = config or model.config
-    if circuit not in STATIC_CIRCUITS:
-        raise SimulationError(f'static_response needs {" or ".join(STATIC_CIRCUITS)}, '
-                              f'not {circuit!r}')
-    ps = cfg.core['supply_pressure_pa'] if supply_pa is None else supply_pa
-    pe = cfg.core['atmospheric_pressure_pa']
-    x0 = initial_state(model, p_a_pa=pe, p_b_pa=ps, t_b_k=cfg.core['supply_temperature_k'],
-                       command_v=voltage_v, supply_pa=ps, config=cfg)
-    return simulate(model, _time(duration_s, sample_s), voltage_v, ps, x0=x0,
-                    circuit=circuit, method=method, config=cfg)
-
-
 __all__ = ['PAPER_SUPPLY_GAUGE_PA', 'PAPER_FLOW_SUPPLIES_GAUGE_PA', 'PAPER_TABLE5_VOLTAGES_V',
            'STATIC_CIRCUITS', 'gauge_supply_pa', 'steady_state',
-           'steady_closed_port', 'steady_flow', 'steady_outputs', 'predict_static',
-           'charge_discharge', 'sine_command', 'sine_response', 'static_response']
+           'steady_closed_port', 'steady_flow', 'steady_outputs', 'predict_static']

@@ -6,6 +6,8 @@ as a DAQ outputs them. Units: s, V, Pa absolute, rad, K.
 """
 from __future__ import annotations
 
+import math
+from collections import deque
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -257,6 +259,35 @@ def simulate_batch(model: Model, t, command_v, supply_pa, x0s, param_matrix,
     return XB, YB, status
 
 
+class _Lag:
+    """A sampled signal seen ``periods`` sample periods late (a whole number or not): linearly
+    interpolated between the two samples around it, as :func:`delayed` does offline; before
+    the first sample it holds ``first``. A whole number of periods returns a sample itself."""
+
+    def __init__(self, periods: float, first):
+        whole = int(math.floor(periods + 1e-9))
+        self.whole, self.fraction = whole, max(periods - whole, 0.0)
+        if self.fraction < 1e-9:
+            self.fraction = 0.0
+        self._buf = deque([first] * (whole + 2), maxlen=whole + 2)
+
+    def push(self, value):
+        """Append the newest sample; returns the value seen now."""
+        self._buf.append(value)
+        now = self._buf[-1 - self.whole]
+        if not self.fraction:
+            return now
+        return (1.0 - self.fraction) * now + self.fraction * self._buf[-2 - self.whole]
+
+    @property
+    def seen(self):
+        """The value seen now (after the last :meth:`push`)."""
+        now = self._buf[-1 - self.whole]
+        if not self.fraction:
+            return now
+        return (1.0 - self.fraction) * now + self.fraction * self._buf[-2 - self.whole]
+
+
 class Stepper:
     """Real-time plant: one :meth:`step` call advances one fixed control period.
 
@@ -267,14 +298,20 @@ class Stepper:
     benchmarks/bench_model.py). A period that would need more than
     ``max_substeps`` is redone with fixed RK4 (``4 * substeps`` substeps), so
     the plant never stops; ``capped_periods`` counts such periods. Command
-    and measurement delays of the components are applied with ring buffers
-    of whole periods.
+    and measurement delays of the components are applied as :func:`simulate`
+    applies them, to any fraction of a period: the valve sees the command of
+    ``d_in`` ago and :meth:`step` returns the state of ``d_out`` ago, each
+    linearly interpolated between the samples around it (a delay of whole periods
+    is exactly those samples). Before the start the valve sees ``command_v`` and
+    the sensors the initial state. ``config`` gives other parameter values for
+    the model's composition (default the model's own).
     """
 
     def __init__(self, model=None, period_s: float = 1e-3, substeps: int = 10,
                  x0=None, circuit: str = 'servo', command_v: float = 5.0,
                  supply_pa: float = None, method: str = 'adaptive',
-                 rtol: float = DEFAULT_RTOL, max_substeps: int = 200):
+                 rtol: float = DEFAULT_RTOL, max_substeps: int = 200,
+                 config: ModelConfig = None):
         self.model = as_model(model)
         if not (period_s > 0 and substeps >= 1 and max_substeps >= 1):
             raise SimulationError('period_s must be > 0, substeps and max_substeps >= 1')
@@ -286,27 +323,24 @@ class Stepper:
         self._atol = self.model.abs_tol
         self.period_s, self.substeps = float(period_s), int(substeps)
         self.circuit = CIRCUITS[circuit]
-        self.params = self.model.params
-        cfg = self.model.config
+        cfg = config or self.model.config
+        self.params = self.model.param_vector(cfg) if config is not None else self.model.params
         self.supply_pa = cfg.core['supply_pressure_pa'] if supply_pa is None else supply_pa
         self.x = (initial_state(self.model, command_v=command_v, supply_pa=self.supply_pa,
-                                circuit=circuit)
+                                config=cfg, circuit=circuit)
                   if x0 is None else np.array(x0, dtype=float))
         self.t = 0.0
         self._c = np.zeros(N_CONTEXT)
         self._w = np.zeros((9, self.model.n_states))
-        d_in, d_out = self.model.delays()
-        self._in_lag = int(round(d_in / self.period_s))
-        self._out_lag = int(round(d_out / self.period_s))
-        self._cmd = [float(command_v)] * self._in_lag
-        self._hist = [self.x.copy() for _ in range(self._out_lag + 1)]
+        d_in, d_out = self.model.delays(cfg)
+        self._command = _Lag(d_in / self.period_s, float(command_v))
+        self._measured = _Lag(d_out / self.period_s, self.x.copy())
 
     def step(self, command_v: float, supply_pa: float = None) -> np.ndarray:
         """Advance one period with ``command_v`` [V]; returns the measured state."""
         if supply_pa is not None:
             self.supply_pa = supply_pa
-        self._cmd.append(float(command_v))
-        u = self._cmd.pop(0)
+        u = float(self._command.push(float(command_v)))
         k = self.model.kernels
         t0, x0 = self.t, self.x.copy()
         if self.method == 'fixed':
@@ -336,11 +370,9 @@ class Stepper:
             raise SimulationError(f'stepper failed at t = {self.t:.6g} s: {_STATUS[status]}'
                                   f'{why}')
         self.t += self.period_s
-        self._hist.append(self.x.copy())
-        self._hist.pop(0)
-        return self._hist[0]
+        return self._measured.push(self.x.copy())
 
     @property
     def measured(self) -> dict[str, float]:
-        x = self._hist[0]
+        x = self._measured.seen
         return dict(zip(CORE_STATE_NAMES, x[:len(CORE_STATE_NAMES)]))

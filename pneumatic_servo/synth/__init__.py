@@ -7,9 +7,9 @@ on any model configuration, including catalogue effects. The ground truth
 of the bundled library is :func:`synthetic_rig`; :func:`generate_library`
 regenerates ``bags/`` (``pneumatic-servo generate OUTDIR``).
 """
-from .designs import DESIGNS, PID, Design, make_experiment
+from .designs import DESIGNS, LIBRARY, Design, make_experiment
 from .sensors import SensorModel, measure, measure_static
 from .truth import TRUTH_VALUES, synthetic_rig
 
-__all__ = ['DESIGNS', 'PID', 'Design', 'SensorModel', 'TRUTH_VALUES', 'make_experiment',
+__all__ = ['DESIGNS', 'LIBRARY', 'Design', 'SensorModel', 'TRUTH_VALUES', 'make_experiment',
            'measure', 'measure_static', 'synthetic_rig']

@@ -86,7 +86,6 @@ def write_fleet(out_dir, design: FleetDesign | None = None) -> Path:
             values = design.values(rig, day)
             exp = closed_loop_experiment(_config(values), rng, design.duration_s,
                                          design.rate_hz)
-            exp.metadata.pop('true_states', None)
             stamp = FIRST_DAY.timestamp() + 86400 * day
             bag = out_dir / rig / f'day_{day:02d}'
             write_experiment(exp, bag, 'mcap', {

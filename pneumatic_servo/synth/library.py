@@ -1,8 +1,11 @@
-"""The bundled experiment library (``bags/``): every design of :data:`DESIGNS` on the
+"""The bundled experiment library (``bags/``): every design of :data:`LIBRARY` on the
 synthetic rig, written as rosbag2 (sqlite3 and MCAP) and static CSV, with a README.
 
 ``pneumatic-servo generate OUTDIR`` calls :func:`generate_library`; the same
-seed gives the same records.
+seed gives the same records, except the two closed-loop runs: since their PID became the
+package's :class:`~pneumatic_servo.control.PidController` (anti-windup, no integral on the
+first sample), regenerating gives statistically equivalent, not identical, closed-loop
+records; the committed ones are kept as they are.
 """
 from __future__ import annotations
 
@@ -16,7 +19,7 @@ from ..errors import ConfigError
 from ..io import write_experiment_bag, write_static_csv
 from ..model.assembly import Model
 from ..model.config import ModelConfig
-from .designs import DESIGNS, make_experiment
+from .designs import DESIGNS, LIBRARY, make_experiment
 from .sensors import SensorModel
 from .truth import TRUTH_VALUES, synthetic_rig
 
@@ -40,7 +43,7 @@ def generate_library(outdir, designs=None, seed: int = DEFAULT_SEED,
     outdir : str or Path
         Target directory (created if missing).
     designs : iterable of str, optional
-        Names from :data:`DESIGNS` (default all).
+        Names from :data:`LIBRARY` (default all).
     seed : int
         Base seed; design i uses ``seed + i`` so records are independent.
     config : ModelConfig, optional
@@ -49,10 +52,10 @@ def generate_library(outdir, designs=None, seed: int = DEFAULT_SEED,
         Replace existing records of the same names.
     """
     outdir = Path(outdir)
-    names = list(designs) if designs else list(DESIGNS)
-    unknown = [n for n in names if n not in DESIGNS]
+    names = list(designs) if designs else list(LIBRARY)
+    unknown = [n for n in names if n not in LIBRARY]
     if unknown:
-        raise ConfigError(f'unknown design(s) {", ".join(unknown)}; use {", ".join(DESIGNS)}')
+        raise ConfigError(f'unknown design(s) {", ".join(unknown)}; use {", ".join(LIBRARY)}')
     cfg = config or synthetic_rig()
     sensors = sensors or SensorModel()
     outdir.mkdir(parents=True, exist_ok=True)
@@ -62,7 +65,7 @@ def generate_library(outdir, designs=None, seed: int = DEFAULT_SEED,
                 raise ConfigError(f'{p} exists; pass --force to replace the library records')
     model = Model(cfg)
     written = []
-    for i, name in enumerate(DESIGNS):
+    for i, name in enumerate(LIBRARY):
         if name not in names:
             continue
         design = DESIGNS[name]
@@ -110,7 +113,8 @@ def _metadata(exp, seed: int) -> dict:
 def write_readme(outdir: Path, cfg: ModelConfig, sensors: SensorModel, seed: int) -> Path:
     """``README.md`` of the library: what each record is, how it was made, the truth."""
     rows = []
-    for i, (name, d) in enumerate(DESIGNS.items()):
+    for i, name in enumerate(LIBRARY):
+        d = DESIGNS[name]
         if d.static:
             fname, fmt = f'{name}.csv', 'CSV (+ .meta.yaml)'
         else:

@@ -6,7 +6,8 @@ diagnosis meets them as a user meets an unknown rig. Each acts in one equation c
 realistic magnitude, and is what a generic correction of that equation describes through one
 leading regressor (:data:`EXPECTED`).
 
-Regenerate the demo bag (same seed, same record)::
+Regenerate the demo bag (the same seed gives a statistically equivalent closed-loop record,
+see :mod:`.hidden`)::
 
     python -m pneumatic_servo.synth.unlisted bags
 """
@@ -148,7 +149,6 @@ def write_demo_bag(bags_dir, seed: int = 9) -> Path:
     with _registered(ArmSpring):
         exp = closed_loop_experiment(hidden_config({ArmSpring.name: ArmSpring.defaults()}),
                                      np.random.default_rng(seed), 10.0)
-    exp.metadata.pop('true_states', None)
     meta = {'synthetic': 'true', 'generator': 'pneumatic_servo.synth.unlisted', 'seed': seed,
             'hidden_effects': {'unlisted: a spring-balanced arm, torque k (angle - rest)':
                                ArmSpring.defaults()}, 'design': 'closed_loop'}
