@@ -26,7 +26,7 @@ def throughput(fleet: Path, work: Path, workers: int, track: bool) -> tuple[floa
     from distributed import Client, LocalCluster
 
     from pneumatic_servo.fleet import FleetOptions, TaskOptions, find_recordings
-    from pneumatic_servo.fleet.run import WORKER_ENV, run_fleet
+    from pneumatic_servo.fleet.cluster import WORKER_ENV, run_fleet
     from pneumatic_servo.model.config import ModelConfig
     from pneumatic_servo.synth.fleet import FRICTION_KEY
     recs = find_recordings([fleet])

@@ -35,15 +35,16 @@ import sys, time
 t0 = time.perf_counter()
 from pneumatic_servo.cli import build_parser
 build_parser('simulate')
-from pneumatic_servo.analysis.compare import model_for, resolve_config
+from pneumatic_servo.analysis.compare import resolve_config
 from pneumatic_servo.experiment import Experiment
 from pneumatic_servo.io import read_experiment, write_experiment
+from pneumatic_servo.model.assembly import Model
 from pneumatic_servo.prediction import config_for, predict_checked
 t1 = time.perf_counter()
 exp = read_experiment(sys.argv[1])
 t2 = time.perf_counter()
 cfg = config_for(exp, resolve_config(None, None))
-pred = predict_checked(model_for(cfg), exp, cfg)
+pred = predict_checked(Model(cfg), exp, cfg)
 t3 = time.perf_counter()
 signals = {k: pred.get(k, v) for k, v in exp.signals.items()}
 write_experiment(Experiment(exp.t, signals, exp.circuit, 'sim'), sys.argv[2],

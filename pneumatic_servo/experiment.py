@@ -29,8 +29,6 @@ SIGNALS = {
     't_s_k': ('K', 'supply temperature (flow test)'),
     'setpoint_rad': ('rad', 'controller setpoint (closed-loop records)'),
 }
-#: inputs a simulation needs, and the measured outputs compared with it
-INPUTS = ('command_v', 'supply_pa')
 
 
 @dataclass(frozen=True)
@@ -47,7 +45,7 @@ class Channel:
     equation: str = ''
 
 
-#: compared channels (INTERFACES.md 'compare' JSON keys): the one table of them
+#: compared channels (the keys of the 'compare' JSON, docs/interfaces.md): the one table of them
 CHANNELS = {
     'angle': Channel('angle_rad', 'rad', 'angle', 2e-3, ('deg', 180.0 / np.pi),
                      'moment balance (angle)'),

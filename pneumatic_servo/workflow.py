@@ -8,10 +8,9 @@ added), and writes the reports, the fitted models and a JSON summary into
 """
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
-from .analysis.compare import compare, predictions
+from .analysis.compare import compare, predict_views
 from .analysis.diagnosis import apply, diagnose
 from .analysis.diagnosis.text import plus_minus, print_ladder
 from .analysis.diagnosis_report import write_diagnosis_report
@@ -19,6 +18,7 @@ from .analysis.report import write_compare_report
 from .errors import ExperimentError
 from .files import bundled
 from .io import read_experiment
+from .jsonable import dumps
 from .model.config import ModelConfig
 
 #: the bundled record: a closed-loop run of a rig with hidden effects (synthetic)
@@ -33,7 +33,7 @@ def demo_bag() -> Path:
 
 def _compare(exp, config, out_dir: Path, label: str, say) -> dict:
     """Open-loop and k-step comparison, printed and reported (issue-4 compare if present)."""
-    preds = predictions(exp, config)
+    preds = predict_views(exp, config)
     result = compare(exp, config, preds=preds)
     write_compare_report(out_dir / f'compare_{label}', exp, preds, result, config)
     chans = result['channels']
@@ -125,5 +125,5 @@ def run_discrepancy_demo(out_dir, bag=None, config: ModelConfig | None = None,
     summary = {'bag': str(bag), 'found': found, 'ladder': ladder,
                'compare_before': before['channels'], 'compare_after': after['channels'],
                'final_config': str(last) if last else None}
-    (out_dir / 'discrepancy_demo.json').write_text(json.dumps(summary, indent=1, default=float))
+    (out_dir / 'discrepancy_demo.json').write_text(dumps(summary, indent=1))
     return summary

@@ -1,4 +1,4 @@
-"""The pure core must import and run where ROS is absent (STYLE.md layering)."""
+"""The pure core must import and run where ROS is absent (the layering of docs/architecture.md)."""
 import pkgutil
 import subprocess
 import sys

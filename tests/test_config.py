@@ -20,7 +20,7 @@ def test_paper_rig_yaml_is_the_papers_model():
     cfg = ModelConfig.load(PAPER_YAML)
     paper = ModelConfig.paper()
     assert cfg.to_dict() == paper.to_dict()
-    # Table 2, Table 4, C0, h, Eq. 40 (settled), MODEL_NOTES 4, supply 0.6 MPa gauge
+    # Table 2, Table 4, C0, h, Eq. 40 (settled), docs/model.md settlement 4, supply 0.6 MPa gauge
     expected = {
         'core.piston_area_m2': 3.4636e-4, 'core.pinion_pitch_diameter_m': 0.014,
         'core.piston_mass_kg': 0.210, 'core.gear_inertia_kg_m2': 1.678e-4,

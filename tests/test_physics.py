@@ -1,8 +1,9 @@
 """The model against physics: the paper's equations re-derived here, balance laws, settlements.
 
 The reference formulas below are written from the paper (Eqs 4, 7, 8, 17, 40)
-and MODEL_NOTES, independently of ``pneumatic_servo.physics``, so that a
-test compares the model with the equations, not with itself.
+and its settlements (docs/model.md, section 4), independently of
+``pneumatic_servo.physics``, so that a test compares the model with the equations, not
+with itself.
 """
 import math
 import zlib
@@ -24,7 +25,7 @@ from pneumatic_servo.model import Model, ModelConfig, Stepper, initial_state, si
 from pneumatic_servo.physics.gas import clearance_flow, orifice_flow
 from pneumatic_servo.physics.valve import flow_coefficient
 
-# --- the paper's constants (Table 2, Section 5, MODEL_NOTES 4) -------------------------------
+# --- the paper's constants (Table 2, Section 5, docs/model.md, settlement 4) ---------------------
 KAPPA, R_GAS = 1.4, 287.0
 CV, CP = R_GAS / (KAPPA - 1.0), KAPPA * R_GAS / (KAPPA - 1.0)
 P_E, T_E = 101325.0, 293.15
@@ -32,13 +33,13 @@ A_HALF, R_HOLE = 1.010e-3, 1.000e-3
 D_S, D_H = 6.000e-3, 6.023e-3
 B_CRIT, C0, MU, L0 = 0.5382, 0.43, 1.83e-5, 2.0e-3
 AREA, D_F = 3.4636e-4, 0.014
-BAND = 0.005  # laminar band of the settlement (MODEL_NOTES 5)
+BAND = 0.005  # laminar band of the settlement (docs/model.md, settlement 8)
 SUPPLY = 0.6e6 + P_E
 C1_POLY = (-3.5227e11, 1.8641e9, -3.133e6, 1713.94, 0.4517)  # x^4 ... x^0, settled signs
 
 
 def c1_settled(x):
-    """C1 = P(|x_v|), MODEL_NOTES 2."""
+    """C1 = P(|x_v|), docs/model.md settlement 1."""
     return np.polyval(C1_POLY, abs(x))
 
 
@@ -65,7 +66,7 @@ def s_e(x):
 
 
 def psi(ratio, b=B_CRIT, band=BAND):
-    """Eq. 8 flow function with the laminar band next to ratio 1 (MODEL_NOTES 5)."""
+    """Eq. 8 flow function with the laminar band next to ratio 1 (docs/model.md, settlement 8)."""
     if ratio < b:
         return math.sqrt(2 * KAPPA / (KAPPA + 1) * (2 / (KAPPA + 1)) ** (2 / (KAPPA - 1)))
 
@@ -107,7 +108,7 @@ def sealed_config(friction=True, heat=False):
 
 
 def volumes(cfg, theta):
-    """V_a, V_b [m^3] with the settled law dV_a/dtheta = A d_f (MODEL_NOTES 3)."""
+    """V_a, V_b [m^3] with the settled law dV_a/dtheta = A d_f (docs/model.md, settlement 2)."""
     c = cfg.core
     swept = c['piston_area_m2'] * c['pinion_pitch_diameter_m']
     return (c['dead_volume_a_m3'] + swept * theta,
@@ -119,7 +120,7 @@ def integral(t, y):
     return float(np.sum(0.5 * (y[1:] + y[:-1]) * np.diff(t)))
 
 
-# --- C1 (MODEL_NOTES 2) ----------------------------------------------------------------------
+# --- C1 (docs/model.md, settlement 1) ------------------------------------------------------------
 def test_c1_sign_settlement_positive_over_whole_travel(model):
     p = [model.config.get(f'orifice_flow.{k}') for k in (
         'flow_coefficient_p0', 'flow_coefficient_p1_per_m', 'flow_coefficient_p2_per_m2',
@@ -255,7 +256,7 @@ def test_energy_balance_of_blocked_chambers(model, heat):
         assert res.t_a_k.max() > T_E + 20.0
 
 
-# --- factor-of-two volume settlement (MODEL_NOTES 3) -----------------------------------------
+# --- factor-of-two volume settlement (docs/model.md, settlement 2) -------------------------------
 def test_sealed_actuator_conserves_energy_and_follows_isentropes(model):
     """No flow, no friction, no heat: the pistons swing on two gas springs.
 

@@ -8,7 +8,7 @@
   without bound; the k-step view shows whether the model is locally right.
 
 :func:`compare` returns a plain dict, ready for the ``compare --json`` file
-of INTERFACES.md: ``{"channels": {"angle": {...}, "p_a": {...}, "p_b": {...}},
+of the interface contract (docs/interfaces.md): ``{"channels": {"angle": {...}, "p_a": {...}, "p_b": {...}},
 "k_step": {...}, ...}``; every channel has ``rmse``, ``max_abs`` and
 ``fit_percent`` in SI units. Other tools add sections to the same dict.
 """
@@ -19,24 +19,17 @@ import math
 import numpy as np
 
 from ..errors import ConfigError, ExperimentError
-from ..experiment import Experiment
+from ..experiment import CHANNELS, Experiment
 from ..model.assembly import Model
 from ..model.config import ModelConfig
 from ..prediction import COMPARE_HORIZON_S, config_for, open_loop, predict_checked, windows
 from .metrics import channel_metrics
 
-#: compared channel -> (signal, SI unit); INTERFACES.md names the first three
-COMPARED = {'angle': ('angle_rad', 'rad'), 'p_a': ('p_a_pa', 'Pa'), 'p_b': ('p_b_pa', 'Pa'),
-            't_a': ('t_a_k', 'K'), 't_b': ('t_b_k', 'K'), 'm4': ('m4_kg_s', 'kg/s'),
-            'm5': ('m5_kg_s', 'kg/s')}
 MODES = ('open_loop', 'k_step')
 #: the paper's verification limits (Section 6.3): 1.25 deg and 4e-3 MPa
 PAPER_MAX_ANGLE_ERROR_DEG = 1.25
 PAPER_MAX_PRESSURE_ERROR_PA = 4.0e3
 DEFAULT_HORIZON_S = COMPARE_HORIZON_S
-
-_MODELS: dict[tuple, Model] = {}
-
 
 def resolve_config(config=None, effects=None) -> ModelConfig:
     """A ModelConfig from a config, a YAML path or None (the paper's), plus named effects.
@@ -58,25 +51,15 @@ def resolve_config(config=None, effects=None) -> ModelConfig:
     return cfg
 
 
-def model_for(config: ModelConfig) -> Model:
-    """A Model of ``config``'s composition, compiled once per process and reused."""
-    key = tuple(config.component_classes())
-    model = _MODELS.get(key)
-    if model is None:
-        model = _MODELS[key] = Model(config)
-    return model
-
-
-
-def predictions(exp: Experiment, config: ModelConfig, modes=MODES,
-                horizon_s: float = DEFAULT_HORIZON_S, model: Model | None = None
-                ) -> dict[str, dict[str, np.ndarray]]:
+def predict_views(exp: Experiment, config: ModelConfig, modes=MODES,
+                  horizon_s: float = DEFAULT_HORIZON_S, model: Model | None = None
+                  ) -> dict[str, dict[str, np.ndarray]]:
     """Predicted signals of ``exp`` per mode ('open_loop', 'k_step'); a static table has one."""
     for mode in modes:
         if mode not in MODES:
             raise ConfigError(f"unknown comparison mode {mode!r}; use 'open_loop' or 'k_step'")
     cfg = config_for(exp, config)
-    model = model or model_for(cfg)
+    model = model or Model(cfg)  # its kernels are compiled once per composition
     if exp.static:
         return {'open_loop': predict_checked(model, exp, cfg)}
     plans = {'open_loop': lambda: open_loop(exp), 'k_step': lambda: windows(exp, horizon_s)}
@@ -90,9 +73,9 @@ def channel_table(exp: Experiment, pred: dict[str, np.ndarray], skip_s: float = 
         raise ExperimentError(f'{exp.name}: skipping the first {skip_s:g} s leaves nothing to '
                               f'compare (the record lasts {exp.duration:g} s); skip less')
     out = {}
-    for ch, (sig, _) in COMPARED.items():
-        if sig in exp.signals and sig in pred:
-            out[ch] = channel_metrics(exp[sig][keep], pred[sig][keep])
+    for ch, channel in CHANNELS.items():
+        if channel.signal in exp.signals and channel.signal in pred:
+            out[ch] = channel_metrics(exp[channel.signal][keep], pred[channel.signal][keep])
     return out
 
 
@@ -114,7 +97,7 @@ def compare(exp: Experiment, config=None, *, effects=None, mode: str = 'open_loo
     skip_s : float [s]
         Leave the first ``skip_s`` out of the metrics (start-up transient).
     preds : dict, optional
-        Predictions already made (``predictions()``), to avoid simulating twice.
+        Predictions already made (:func:`predict_views`), to avoid simulating twice.
 
     Returns
     -------
@@ -129,7 +112,7 @@ def compare(exp: Experiment, config=None, *, effects=None, mode: str = 'open_loo
         raise ConfigError(f"unknown comparison mode {mode!r}; use 'open_loop' or 'k_step'")
     modes = tuple(dict.fromkeys((mode,) + tuple(modes)))
     if preds is None:
-        preds = predictions(exp, cfg, modes, horizon_s, model)
+        preds = predict_views(exp, cfg, modes, horizon_s, model)
     primary = mode if mode in preds else 'open_loop'
     result = {
         'experiment': exp.name, 'source': exp.metadata.get('source', ''),
@@ -137,7 +120,7 @@ def compare(exp: Experiment, config=None, *, effects=None, mode: str = 'open_loo
         'synthetic': bool(exp.metadata.get('synthetic', False)),
         'n_samples': int(len(exp.t)), 'duration_s': float(exp.duration),
         'mode': primary, 'channels': channel_table(exp, preds[primary], skip_s),
-        'units': {ch: COMPARED[ch][1] for ch in COMPARED},
+        'units': {ch: channel.unit for ch, channel in CHANNELS.items()},
         'model': {'components': list(cfg.components), 'effects': list(cfg.effects)},
     }
     for other in MODES:
@@ -185,7 +168,7 @@ def check_limits(result: dict, limits: dict[str, float]) -> list[dict]:
         passed = None if limit is None else (err is not None and err <= limit)
         rows.append({'channel': ch, 'max_abs': err, 'limit': limit, 'rmse': m.get('rmse'),
                      'fit_percent': m.get('fit_percent'), 'passed': passed,
-                     'unit': COMPARED[ch][1]})
+                     'unit': CHANNELS[ch].unit})
     if not any(r['passed'] is not None for r in rows):
         raise ExperimentError(f'{result["experiment"]}: none of the measured channels '
                               f'({", ".join(result["channels"]) or "none"}) has a limit')
@@ -199,8 +182,7 @@ def format_table(rows: list[dict]) -> str:
             return '-'
         if ch == 'angle':
             return f'{math.degrees(v):.4g} deg'
-        unit = COMPARED[ch][1]
-        return f'{v:.4g} {unit}'
+        return f'{v:.4g} {CHANNELS[ch].unit}'
     head = f'{"channel":<8} {"max |error|":>16} {"limit":>16} {"rmse":>16} {"fit %":>8}  result'
     lines = [head, '-' * len(head)]
     for r in rows:
@@ -220,44 +202,3 @@ def verify(exp: Experiment, config=None, *, effects=None, limits: dict | None = 
                      horizon_s=horizon_s, skip_s=skip_s, model=model)
     rows = check_limits(result, limits if limits is not None else limits_for())
     return all(r['passed'] is not False for r in rows), rows, result
-
-
-# ----------------------------------------------------------------------- plots
-def plot_compare(exp: Experiment, preds: dict[str, dict[str, np.ndarray]], path,
-                 title: str | None = None) -> None:
-    """Measured against predicted signals (each mode) and the residuals, one row per channel."""
-    import matplotlib
-    matplotlib.use('Agg')
-    import matplotlib.pyplot as plt
-    chans = [ch for ch, (sig, _) in COMPARED.items()
-             if sig in exp.signals and any(sig in p for p in preds.values())]
-    if not chans:
-        raise ExperimentError(f'{exp.name}: nothing to plot: no measured channel is predicted')
-    scale = {'angle': (180.0 / math.pi, 'deg'), 'p_a': (1e-6, 'MPa'), 'p_b': (1e-6, 'MPa'),
-             't_a': (1.0, 'K'), 't_b': (1.0, 'K'), 'm4': (1e3, 'g/s'), 'm5': (1e3, 'g/s')}
-    x = exp['command_v'] if exp.static else exp.t
-    style = '-' if not exp.static else 'o'
-    fig, axes = plt.subplots(len(chans), 2, figsize=(11, 2.4 * len(chans)), squeeze=False,
-                             sharex=True)
-    for row, ch in zip(axes, chans):
-        sig = COMPARED[ch][0]
-        k, unit = scale[ch]
-        row[0].plot(x, exp[sig] * k, style, color='k', lw=0.8, ms=3, label='measured')
-        for mode, pred in preds.items():
-            if sig in pred:
-                row[0].plot(x, pred[sig] * k, style, lw=0.9, ms=3, label=mode.replace('_', '-'))
-                row[1].plot(x, (exp[sig] - pred[sig]) * k, style, lw=0.8, ms=3,
-                            label=mode.replace('_', '-'))
-        row[0].set_ylabel(f'{ch} [{unit}]')
-        row[1].set_ylabel(f'{ch} error [{unit}]')
-        row[1].axhline(0.0, color='k', lw=0.5)
-        for a in row:
-            a.grid(alpha=0.3)
-    axes[0][0].legend(fontsize=7)
-    axes[0][1].legend(fontsize=7)
-    for a in axes[-1]:
-        a.set_xlabel('valve voltage [V]' if exp.static else 't [s]')
-    fig.suptitle(title or exp.name, fontsize=10)
-    fig.tight_layout()
-    fig.savefig(path, dpi=100)
-    plt.close(fig)

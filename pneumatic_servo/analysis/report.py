@@ -10,12 +10,10 @@ page can be mailed on its own.
 from __future__ import annotations
 
 import html
-import json
 from pathlib import Path
 
-import numpy as np
-
 from ..experiment import Experiment
+from ..jsonable import dumps
 from ..model.config import ModelConfig
 from .html import fmt, img, page, table
 from .plots import plot_correlations, plot_overlays, plot_regime_heatmap, plot_residuals
@@ -101,7 +99,7 @@ def write_compare_report(out_dir, exp: Experiment, pred: dict, result=None,
         body.append(img(out_dir, plot_residuals(out_dir, [exp], [local]), 'residuals'))
     where_body, where = where_sections(out_dir, [exp], [local], config)
     body += where_body
-    (out_dir / 'where.json').write_text(json.dumps(where, indent=1, default=_json_default))
+    (out_dir / 'where.json').write_text(dumps(where, indent=1))
     path = out_dir / 'index.html'
     path.write_text(page('Model against measurement', body))
     return path
@@ -116,10 +114,3 @@ def _metrics_of(result) -> dict:
         return result.get('channels', {}) or {}
     return {}
 
-
-def _json_default(o):
-    if isinstance(o, (np.floating, np.integer)):
-        return o.item()
-    if isinstance(o, np.ndarray):
-        return o.tolist()
-    return str(o)

@@ -40,13 +40,7 @@ def build_parser(only: str | None = None) -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest='verb', metavar='VERB')
     sub.required = True
     for verb in (only,) if only in VERBS else VERBS:
-        try:
-            module = importlib.import_module(f'{__name__}.{verb}')
-        except ModuleNotFoundError as exc:
-            if exc.name and exc.name.startswith(__name__):
-                continue  # verb not built yet
-            raise
-        module.add_parser(sub)
+        importlib.import_module(f'{__name__}.{verb}').add_parser(sub)
     return parser
 
 

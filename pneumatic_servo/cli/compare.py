@@ -9,12 +9,12 @@ every channel has ``rmse``, ``max_abs`` and ``fit_percent`` in SI units (rad, Pa
 from __future__ import annotations
 
 import argparse
-import json
 import math
 from pathlib import Path
 
+from ..jsonable import dumps
 from ..prediction import COMPARE_HORIZON_S
-from .options import output_dir, output_file, positive_seconds, seconds
+from .options import comma_list, output_dir, output_file, positive_seconds, seconds
 
 
 def add_parser(sub) -> argparse.ArgumentParser:
@@ -23,7 +23,8 @@ def add_parser(sub) -> argparse.ArgumentParser:
                        formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument('bag', metavar='BAG', help='rosbag2 directory (sqlite3 or MCAP) or static CSV')
     p.add_argument('--config', metavar='CFG', help='model config YAML (default: the paper\'s)')
-    p.add_argument('--effects', metavar='E1,E2', help='catalogue effects to add (default values)')
+    p.add_argument('--effects', metavar='E1,E2', type=comma_list,
+                   help='catalogue effects to add (default values)')
     p.add_argument('--json', metavar='PATH', type=output_file, help='write the results as JSON')
     p.add_argument('--report', metavar='DIR', type=output_dir,
                    help='write plots (and an HTML report) into DIR')
@@ -59,32 +60,21 @@ def print_channels(result: dict, out=print) -> None:
 
 
 def write_report(directory, exp, preds, result, config=None) -> Path:
-    """The HTML report of pneumatic_servo.analysis.report if it is there, else plots + JSON.
-
-    ``preds`` maps each view ('open_loop', 'k_step') to its predicted
-    signals; the report gets the view reported under ``channels``.
-    """
+    """The HTML report (:func:`pneumatic_servo.analysis.report.write_compare_report`) in
+    ``directory``; ``preds`` maps each view ('open_loop', 'k_step') to its predicted
+    signals, and the report gets the view reported under ``channels``."""
+    from ..analysis.report import write_compare_report
     directory = Path(directory)
     directory.mkdir(parents=True, exist_ok=True)
-    try:
-        from ..analysis.report import write_compare_report
-    except ImportError:
-        write_compare_report = None
-    if write_compare_report is not None:
-        return write_compare_report(directory, exp, preds[result['mode']], result,
-                                    config=config)
-    from ..analysis.compare import plot_compare
-    plot_compare(exp, preds, directory / 'compare.png')
-    (directory / 'compare.json').write_text(json.dumps(result, indent=2))
-    return directory / 'compare.png'
+    return write_compare_report(directory, exp, preds[result['mode']], result, config=config)
 
 
 def run(args) -> int:
-    from ..analysis.compare import compare, config_for, predictions, resolve_config
+    from ..analysis.compare import compare, config_for, predict_views, resolve_config
     from ..io import read_experiment
     exp = read_experiment(args.bag)
     cfg = config_for(exp, resolve_config(args.config, args.effects))
-    preds = predictions(exp, cfg, horizon_s=args.horizon)
+    preds = predict_views(exp, cfg, horizon_s=args.horizon)
     result = compare(exp, cfg, mode=args.mode, horizon_s=args.horizon, skip_s=args.skip,
                      preds=preds)
     print_channels(result)
@@ -97,7 +87,7 @@ def run(args) -> int:
             result['validation'][other.name] = check
             print_channels(check)
     if args.json:
-        Path(args.json).write_text(json.dumps(result, indent=2))
+        Path(args.json).write_text(dumps(result, indent=2))
         print(f'wrote {args.json}')
     if args.report:
         path = write_report(args.report, exp, preds, result, cfg)

@@ -11,7 +11,6 @@ The demo is a list of stages, run in order:
 from __future__ import annotations
 
 import argparse
-import json
 import math
 import time
 from dataclasses import dataclass
@@ -19,6 +18,7 @@ from pathlib import Path
 from typing import Callable, Optional
 
 from ..errors import ConfigError, PneumaticServoError
+from ..jsonable import dumps
 from ..workflow import run_discrepancy_demo
 from .options import output_dir
 
@@ -51,7 +51,7 @@ def _diagnosis(out_dir: Path, config, log) -> dict:
 
 
 def _fleet(out_dir: Path, config, log) -> dict:
-    from ..fleet.demo import run_fleet_demo  # Dask is loaded only for this stage
+    from ..fleet.bundled import run_fleet_demo  # Dask is loaded only for this stage
     return run_fleet_demo(out_dir / 'fleet', log)
 
 
@@ -103,7 +103,7 @@ def run(args) -> int:
     for stage in STAGES:
         summary['stages'][stage.name] = _run_stage(stage, args, out, config)
     path = out / 'summary.json'
-    path.write_text(json.dumps(summary, indent=2, default=_json_default) + '\n')
+    path.write_text(dumps(summary, indent=2) + '\n')
     print_summary(summary)
     print(f'\nsummary: {path}')
     failed = [n for n, s in summary['stages'].items() if s.get('status') == 'failed']
@@ -127,12 +127,6 @@ def _run_stage(stage: Stage, args, out: Path, config) -> dict:
     result.setdefault('status', 'ok')
     result['seconds'] = round(time.perf_counter() - start, 2)
     return result
-
-
-def _json_default(obj):
-    if hasattr(obj, 'tolist'):
-        return obj.tolist()
-    return str(obj)
 
 
 # ----------------------------------------------------------------------------- printing

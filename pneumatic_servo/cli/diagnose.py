@@ -14,11 +14,7 @@ JSON (``--json``): ``{"verdict": NAME or "none", "ranking": [{"effect", "params"
 from __future__ import annotations
 
 import argparse
-import json
-import math
 from pathlib import Path
-
-import numpy as np
 
 from ..analysis.diagnosis import DiagnoseOptions, apply, diagnose, text
 from ..analysis.diagnosis.emit import class_name, effect_source
@@ -26,9 +22,10 @@ from ..analysis.diagnosis.options import FALSE_ALARM_RATE
 from ..analysis.diagnosis_report import write_diagnosis_report
 from ..errors import ConfigError
 from ..io import read_experiment
+from ..jsonable import dumps
 from ..model.config import ModelConfig
 from ..prediction import DIAGNOSIS_HORIZON_S
-from .options import fraction, output_dir, output_file, positive_seconds
+from .options import comma_list, fraction, output_dir, output_file, positive_seconds
 
 
 def add_parser(sub) -> argparse.ArgumentParser:
@@ -50,10 +47,10 @@ def add_parser(sub) -> argparse.ArgumentParser:
     p.add_argument('--emit-effect', metavar='PATH.py', type=output_file,
                    help='write the best discovered correction as a user effect class (a '
                         'Python file to rename and use as PATH.py:Class)')
-    p.add_argument('--free', metavar='KEY,...', default='',
+    p.add_argument('--free', metavar='KEY,...', type=comma_list, default=(),
                    help="base parameters refitted with every candidate, e.g. "
                         "'stribeck_friction.coulomb_friction_n'")
-    p.add_argument('--effects', metavar='E1,E2', default='',
+    p.add_argument('--effects', metavar='E1,E2', type=comma_list, default=(),
                    help='candidate effects to try (default: all registered)')
     p.add_argument('--horizon', type=positive_seconds, default=None, metavar='S',
                    help='prediction horizon [s] from each measured state (default '
@@ -64,29 +61,6 @@ def add_parser(sub) -> argparse.ArgumentParser:
     p.add_argument('--quiet', action='store_true', help='print only the verdict')
     p.set_defaults(run=run)
     return p
-
-
-def _names(text: str) -> list[str]:
-    return [s.strip() for s in (text or '').split(',') if s.strip()]
-
-
-def _json_default(o):
-    if isinstance(o, (np.floating, np.integer, np.bool_)):
-        return o.item()
-    if isinstance(o, np.ndarray):
-        return o.tolist()
-    return str(o)
-
-
-def _clean(o):
-    """JSON-safe copy: NaN and inf become null (strict JSON readers reject them)."""
-    if isinstance(o, dict):
-        return {k: _clean(v) for k, v in o.items()}
-    if isinstance(o, (list, tuple)):
-        return [_clean(v) for v in o]
-    if isinstance(o, (float, np.floating)):
-        return float(o) if math.isfinite(o) else None
-    return o
 
 
 def run(args) -> int:
@@ -103,7 +77,7 @@ def run(args) -> int:
             f'({c.seconds:.1f} s)')
 
     others = [read_experiment(p) for p in args.validate_on]
-    result = diagnose(experiments, config, _names(args.effects), _names(args.free), options,
+    result = diagnose(experiments, config, list(args.effects), list(args.free), options,
                       progress=progress, validate_on=others)
     if not args.quiet:
         text.print_where(result, say)
@@ -113,8 +87,7 @@ def run(args) -> int:
         text.print_ladder(result.ladder, say)
     text.print_verdict(result)
     if args.json:
-        Path(args.json).write_text(json.dumps(_clean(result.to_json()), indent=1,
-                                              default=_json_default))
+        Path(args.json).write_text(dumps(result.to_json(), indent=1))
         say(f'wrote {args.json}')
     if args.apply:
         if result.added is None:

@@ -17,10 +17,10 @@ verification or could not be read (its row says why), 2 bad input.
 from __future__ import annotations
 
 import argparse
-import json
 from pathlib import Path
 
-from .options import number, output_dir, output_file
+from ..jsonable import dumps
+from .options import comma_list, number, output_dir, output_file
 from .verify import add_limit_arguments
 
 
@@ -35,9 +35,9 @@ def add_parser(sub) -> argparse.ArgumentParser:
                    f'beside --json as NAME{STORE_SUFFIX}, else in --report, else '
                    f'./{STORE_NAME})')
     p.add_argument('--config', metavar='CFG', help='model config YAML (default: the paper\'s)')
-    p.add_argument('--track', metavar='E1,E2', default='',
+    p.add_argument('--track', metavar='E1,E2', type=comma_list, default=(),
                    help='effects to fit per recording and watch for change')
-    p.add_argument('--free', metavar='K1,K2', default='',
+    p.add_argument('--free', metavar='K1,K2', type=comma_list, default=(),
                    help='base parameters (owner.name) fitted with the tracked effects')
     p.add_argument('--diagnose', action='store_true', help='run the full diagnosis per '
                    'recording (slow: minutes each)')
@@ -92,22 +92,18 @@ def _store(args) -> Path:
     return path
 
 
-def _names(text: str) -> tuple[str, ...]:
-    return tuple(s.strip() for s in text.split(',') if s.strip())
-
-
 def run(args) -> int:
     from ..analysis.compare import resolve_config
     from ..errors import ConfigError
     from ..fleet import FleetOptions, TaskOptions, find_recordings, run_fleet
     from ..fleet.report import write_report
-    from ..fleet.run import parameter_names
+    from ..fleet.cluster import parameter_names
     from ..fleet.table import write_table
     from .verify import limits_from
     if args.table and Path(args.table).suffix.lower() not in ('.parquet', '.csv'):
         raise ConfigError(f'--table {args.table}: name a .parquet or a .csv file')
     config = resolve_config(args.config)
-    task = TaskOptions(track=_names(args.track), free=_names(args.free),
+    task = TaskOptions(track=args.track, free=args.free,
                        diagnose=args.diagnose, mode=args.mode, limits=limits_from(args))
     probe = resolve_config(config, list(task.track))  # unknown effects or keys: fail now
     for key in task.free:
@@ -116,7 +112,7 @@ def run(args) -> int:
     result = run_fleet(recordings, config, FleetOptions(
         _store(args), args.scheduler, args.workers, not args.no_progress, task))
     if args.json:
-        Path(args.json).write_text(json.dumps(result.to_json(), indent=1, default=str))
+        Path(args.json).write_text(dumps(result.to_json(), indent=1))
     if args.table:
         write_table(result.rows, args.table)
     if args.report:
@@ -129,20 +125,19 @@ def run(args) -> int:
 def _summary(result) -> None:
     from ..fleet.task import diagnosis_text
     rows = result.rows
-    errors = [r for r in rows if r['status'] == 'error']
-    failed = [r for r in rows if (r.get('verify') or {}).get('passed') is False]
-    print(f'{len(rows)} recordings of {len({r["rig"] for r in rows})} rigs '
+    errors = [r for r in rows if r.status == 'error']
+    failed = [r for r in rows if r.passed is False]
+    print(f'{len(rows)} recordings of {len({r.rig for r in rows})} rigs '
           f'({result.computed} checked now, {len(rows) - result.computed} from the store): '
           f'{len(rows) - len(errors) - len(failed)} passed, {len(failed)} failed, '
           f'{len(errors)} errors')
     for r in errors:
-        print(f'  error  {r["path"]}: {r["error"]}')
+        print(f'  error  {r.path}: {r.error}')
     for r in failed:
-        print(f'  FAIL   {r["path"]}')
+        print(f'  FAIL   {r.path}')
     for r in rows:  # with --diagnose: every recording whose model misses something
-        found = r.get('diagnosis')
-        if found and found['status'] != 'consistent':
-            print(f'  model  {r["path"]}: {diagnosis_text(found)}')
+        if r.diagnosis and r.diagnosis['status'] != 'consistent':
+            print(f'  model  {r.path}: {diagnosis_text(r.diagnosis)}')
     print(f'{len(result.alerts)} alerts' + (':' if result.alerts else ''))
     for a in result.alerts:
         print(f'  ALERT  {a.text}')

@@ -10,14 +10,15 @@ from __future__ import annotations
 
 import argparse
 
-from .options import number
+from .options import comma_list, number
 
 
 def add_parser(sub) -> argparse.ArgumentParser:
     p = sub.add_parser('generate', help='regenerate the synthetic experiment library (bags/)',
                        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument('outdir', metavar='OUTDIR', nargs='?', help='directory to write (e.g. bags/)')
-    p.add_argument('--designs', metavar='D1,D2', help='only these designs (see --list)')
+    p.add_argument('--designs', metavar='D1,D2', type=comma_list,
+                   help='only these designs (see --list)')
     p.add_argument('--seed', type=number(0, 2**32 - 1, integer=True), default=None,
                    help='base noise seed (default 2019)')
     p.add_argument('--config', metavar='CFG',
@@ -39,7 +40,7 @@ def run(args) -> int:
         raise ConfigError('give OUTDIR (e.g. bags/), or --list')
     from ..model.config import ModelConfig
     from ..synth.library import DEFAULT_SEED, generate_library
-    designs = [d.strip() for d in args.designs.split(',')] if args.designs else None
+    designs = list(args.designs) if args.designs else None
     cfg = ModelConfig.load(args.config) if args.config else None
     print(f'generating into {args.outdir}:')
     written = generate_library(args.outdir, designs, DEFAULT_SEED if args.seed is None

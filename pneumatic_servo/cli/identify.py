@@ -13,10 +13,10 @@ the nodes and every verb take as it is.
 from __future__ import annotations
 
 import argparse
-import json
 from pathlib import Path
 
-from .options import number, output_dir, output_file, positive_seconds
+from ..jsonable import dumps
+from .options import comma_list, number, output_dir, output_file, positive_seconds
 
 
 def add_parser(sub) -> argparse.ArgumentParser:
@@ -29,17 +29,17 @@ def add_parser(sub) -> argparse.ArgumentParser:
                    help='config YAML to write')
     p.add_argument('--config', metavar='BASE', help='base config YAML: geometry and everything '
                    'not identified (default: the paper\'s)')
-    p.add_argument('--steps', default='flow,heat,friction', metavar='S1,S2',
+    p.add_argument('--steps', type=comma_list, default='flow,heat,friction', metavar='S1,S2',
                    help='procedures to run: flow, heat, friction (default all that have data)')
     p.add_argument('--friction-method', choices=('least_squares', 'geometric'),
                    default='least_squares', help='Stribeck estimate written to the config')
     p.add_argument('--thermocouple-tau', type=positive_seconds, default=None, metavar='S',
                    help='thermocouple time constant [s] (default: from the records\' metadata)')
-    p.add_argument('--refine', metavar='KEY1,KEY2',
+    p.add_argument('--refine', metavar='KEY1,KEY2', type=comma_list,
                    help="parameters ('owner.name') to refine by output error afterwards")
     p.add_argument('--refine-on', nargs='+', metavar='BAG',
                    help='records for the refinement (default: every time series given)')
-    p.add_argument('--refine-bounds', metavar='KEY=LO:HI,...',
+    p.add_argument('--refine-bounds', metavar='KEY=LO:HI,...', type=comma_list,
                    help='bounds of refined parameters [SI] (default: their declared bounds)')
     p.add_argument('--refine-mode', choices=('open_loop', 'k_step'), default='open_loop')
     p.add_argument('--max-nfev', type=number(1, 10000, integer=True), default=30,
@@ -71,13 +71,13 @@ def expand_inputs(inputs) -> list[Path]:
     return out
 
 
-def parse_bounds(text: str | None) -> dict | None:
-    """'key=lo:hi,key2=lo:hi' -> {key: (lo, hi)}."""
+def parse_bounds(items) -> dict | None:
+    """``key=lo:hi`` items (of ``--refine-bounds key=lo:hi,key2=lo:hi``) -> {key: (lo, hi)}."""
     from ..errors import ConfigError
-    if not text:
+    if not items:
         return None
     out = {}
-    for item in text.split(','):
+    for item in items:
         key, _, span = item.partition('=')
         lo, _, hi = span.partition(':')
         try:
@@ -95,8 +95,8 @@ def run(args) -> int:
     from ..model.config import ModelConfig
     base = ModelConfig.load(args.config) if args.config else ModelConfig.paper()
     experiments = [read_experiment(p) for p in expand_inputs(args.inputs)]
-    steps = [s.strip() for s in args.steps.split(',') if s.strip()]
-    refine = [k.strip() for k in args.refine.split(',')] if args.refine else None
+    steps = list(args.steps)
+    refine = list(args.refine) if args.refine else None
     refine_on = ([read_experiment(p) for p in expand_inputs(args.refine_on)]
                  if args.refine_on else None)
     result = identify(experiments, base, steps=steps, friction_method=args.friction_method,
@@ -107,7 +107,7 @@ def run(args) -> int:
     result.config.save(args.out, header=result.header())
     print(f'wrote {args.out}')
     if args.json:
-        Path(args.json).write_text(json.dumps(result.to_dict(), indent=2, default=float))
+        Path(args.json).write_text(dumps(result.to_dict(), indent=2))
         print(f'wrote {args.json}')
     if args.plots:
         _plots(Path(args.plots), result, experiments)

@@ -2,11 +2,11 @@
 from __future__ import annotations
 
 import argparse
-import json
 import math
 
 from ..errors import ConfigError
-from .options import new_path, output_file, positive_seconds
+from ..jsonable import dumps
+from .options import comma_list, new_path, output_file, positive_seconds
 
 
 def add_parser(sub) -> argparse.ArgumentParser:
@@ -23,7 +23,7 @@ def add_parser(sub) -> argparse.ArgumentParser:
                    help='give up if no message arrives within S seconds (default 30)')
     p.add_argument('--storage', choices=('sqlite3', 'mcap'), default='sqlite3',
                    help='storage plugin (default: sqlite3)')
-    p.add_argument('--topics', metavar='T1,T2',
+    p.add_argument('--topics', metavar='T1,T2', type=comma_list,
                    help='comma-separated subset of the interface topics (default: all)')
     p.add_argument('--use-sim-time', action='store_true',
                    help='time stamps and duration from /clock (lockstep simulation)')
@@ -41,9 +41,7 @@ def run(args) -> int:
     from ..ros import require_rclpy
     require_rclpy()
     from ..ros.recorder import DEFAULT_TOPICS, check_topics, record
-    topics = DEFAULT_TOPICS
-    if args.topics:
-        topics = tuple(t.strip() for t in args.topics.split(',') if t.strip())
+    topics = args.topics or DEFAULT_TOPICS
     check_topics(topics)
     ros_args = ['pneumatic-servo', '--ros-args', *args.ros_args] if args.ros_args else None
     result = record(args.out, args.duration, args.storage, topics, args.use_sim_time, ros_args,
@@ -57,5 +55,5 @@ def run(args) -> int:
         print(f'  {topic}: {n}')
     if args.json:
         with open(args.json, 'w') as f:
-            json.dump(result, f, indent=2)
+            f.write(dumps(result, indent=2))
     return 0

@@ -10,7 +10,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from .options import new_path
+from .options import comma_list, new_path
 
 
 def add_parser(sub) -> argparse.ArgumentParser:
@@ -21,7 +21,8 @@ def add_parser(sub) -> argparse.ArgumentParser:
     p.add_argument('--out', required=True, metavar='OUT_BAG', type=new_path,
                    help='new bag directory (or .csv file for a CSV input) to write')
     p.add_argument('--config', metavar='CFG', help='model config YAML (default: the paper\'s)')
-    p.add_argument('--effects', metavar='E1,E2', help='catalogue effects to add (default values)')
+    p.add_argument('--effects', metavar='E1,E2', type=comma_list,
+                   help='catalogue effects to add (default values)')
     p.add_argument('--storage', choices=('sqlite3', 'mcap'), default=None,
                    help='storage of the output bag (default: that of the input)')
     p.set_defaults(run=run)
@@ -29,10 +30,11 @@ def add_parser(sub) -> argparse.ArgumentParser:
 
 
 def run(args) -> int:
-    from ..analysis.compare import model_for, resolve_config
+    from ..analysis.compare import resolve_config
     from ..errors import ExperimentError
     from ..experiment import Experiment
     from ..io import read_experiment, write_experiment
+    from ..model.assembly import Model
     from ..prediction import config_for, predict_checked
     exp = read_experiment(args.bag)
     out = Path(args.out)
@@ -43,7 +45,7 @@ def run(args) -> int:
     if out.exists():
         raise ExperimentError(f'{out} exists; choose a new output path')
     cfg = config_for(exp, resolve_config(args.config, args.effects))
-    pred = predict_checked(model_for(cfg), exp, cfg)
+    pred = predict_checked(Model(cfg), exp, cfg)
     signals = {k: v for k, v in exp.signals.items()
                if k in ('command_v', 'supply_pa', 't_s_k', 'setpoint_rad')}
     for key, values in exp.signals.items():
@@ -55,7 +57,7 @@ def run(args) -> int:
     custom = {'synthetic': True,
               'generator': f'pneumatic-servo simulate {args.bag}'
                            + (f' --config {args.config}' if args.config else '')
-                           + (f' --effects {args.effects}' if args.effects else ''),
+                           + (f' --effects {",".join(args.effects)}' if args.effects else ''),
               'source': str(args.bag), 'truth': cfg.to_dict()}
     if 'blocked_angle_rad' in exp.metadata:
         custom['blocked_angle_rad'] = exp.metadata['blocked_angle_rad']

@@ -11,13 +11,13 @@ Exit status: 0 all channels pass, 1 a channel fails (the table names it),
 from __future__ import annotations
 
 import argparse
-import json
 import math
 from pathlib import Path
 
 from ..analysis.compare import PAPER_MAX_ANGLE_ERROR_DEG, PAPER_MAX_PRESSURE_ERROR_PA
+from ..jsonable import dumps
 from ..prediction import COMPARE_HORIZON_S
-from .options import output_file, positive_seconds, seconds
+from .options import comma_list, output_file, positive_seconds, seconds
 
 
 def add_parser(sub) -> argparse.ArgumentParser:
@@ -30,7 +30,8 @@ def add_parser(sub) -> argparse.ArgumentParser:
                    help='largest accepted flow error [kg/s] (static flow tables; default: '
                         'flows are reported, not checked)')
     p.add_argument('--config', metavar='CFG', help='model config YAML (default: the paper\'s)')
-    p.add_argument('--effects', metavar='E1,E2', help='catalogue effects to add (default values)')
+    p.add_argument('--effects', metavar='E1,E2', type=comma_list,
+                   help='catalogue effects to add (default values)')
     p.add_argument('--mode', choices=('open_loop', 'k_step'), default='open_loop',
                    help='prediction view whose errors are checked (default open_loop)')
     p.add_argument('--horizon', type=positive_seconds, default=COMPARE_HORIZON_S, metavar='S',
@@ -92,7 +93,7 @@ def run(args) -> int:
     failing = [r['channel'] for r in rows if r['passed'] is False]
     print('PASS' if ok else f'FAIL: {", ".join(failing)}')
     if args.json:
-        Path(args.json).write_text(json.dumps({'passed': ok, 'failing': failing, 'rows': rows,
-                                               'compare': result}, indent=2))
+        Path(args.json).write_text(dumps({'passed': ok, 'failing': failing, 'rows': rows,
+                                          'compare': result}, indent=2))
     return 0 if ok else 1
 

@@ -16,7 +16,7 @@ from pathlib import Path
 
 from .._jit import is_compiled, njit
 from ..errors import ConfigError
-from .base import Component, Param, State
+from .base import STAGES, Component, Param, State
 from .catalogue import CATALOGUE
 from .corrections import CORRECTIONS
 from .paper import PAPER_COMPONENTS, PAPER_DEFAULTS
@@ -31,9 +31,6 @@ _IMPORTED: dict[str, type[Component]] = {}
 _entry_points_loaded = False
 
 
-STAGE_HOOKS = ('valve', 'supply', 'geometry', 'flows', 'heat', 'mechanics', 'finish')
-
-
 def register(cls: type[Component]) -> type[Component]:
     """Register a component class under ``cls.name``; usable as a decorator.
 
@@ -44,12 +41,12 @@ def register(cls: type[Component]) -> type[Component]:
         raise ConfigError(f'{cls!r} is not a Component subclass with a name; subclass '
                           'pneumatic_servo.effects.Component and set name')
     if cls.slot is None and not (cls.params or cls.states or any(
-            cls.hook(s) for s in STAGE_HOOKS)) \
+            cls.hook(s) for s in STAGES)) \
             and cls.input_delay_s is Component.input_delay_s \
             and cls.output_delay_s is Component.output_delay_s and cls.sensor_error is None:
         raise ConfigError(f'effect {cls.name!r} adds nothing: give it a hook, a delay or a '
                           'sensor error')
-    for stage in STAGE_HOOKS:
+    for stage in STAGES:
         hook = cls.__dict__.get(stage)
         if hook is not None and not is_compiled(hook):
             setattr(cls, stage, njit(hook))

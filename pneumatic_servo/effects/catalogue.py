@@ -1,4 +1,5 @@
-"""The catalogue of candidate missing effects (INTERFACES.md, 'Effect names').
+"""The catalogue of candidate missing effects (the contract's 'Effect names'; docs/model.md,
+section 6).
 
 Each is a component with named, bounded SI parameters. Defaults are typical
 magnitudes for a small rotary actuator like the paper's SMC MSQA30A rig.

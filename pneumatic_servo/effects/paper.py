@@ -74,7 +74,7 @@ class OrificeFlow(Component):
 
     Effective area S_e = C1(x_v) (2 S_V + C0 S_H); isentropic nozzle law with
     the measured critical pressure ratio b; C1 is the sign-settled symmetric
-    polynomial of Eq. 40 (MODEL_NOTES 2).
+    polynomial of Eq. 40 (docs/model.md, settlement 1).
     """
 
     name = 'orifice_flow'

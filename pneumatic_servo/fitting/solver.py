@@ -45,14 +45,6 @@ class Fit:
     #: what the data determine (parameters and combinations they do not)
     identifiability: Identifiability = field(default=None)
 
-    @property
-    def free(self) -> list[str]:
-        return self.keys
-
-    @property
-    def success(self) -> bool:
-        return self.converged
-
 
 def bracket_search(prob: Problem, x: np.ndarray, cost: float, rounds: int = 3,
                    points: int = 7) -> tuple[np.ndarray, float]:

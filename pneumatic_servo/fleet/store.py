@@ -10,9 +10,12 @@ import json
 import os
 from pathlib import Path
 
+from ..jsonable import dumps
+
 
 class RowStore:
-    """Append-only JSON-lines file of fleet rows, keyed by ``row['key']``."""
+    """Append-only JSON-lines file of fleet rows (the JSON form of :class:`~.row.Row`),
+    keyed by their ``key``."""
 
     def __init__(self, path):
         self.path = Path(path)
@@ -39,18 +42,14 @@ class RowStore:
     def __contains__(self, key: str) -> bool:
         return key in self.rows
 
-    def add(self, row: dict) -> None:
-        """Append ``row`` and make it durable before returning."""
+    def add(self, row) -> None:
+        """Append ``row`` (a :class:`~.row.Row` or its JSON form) and make it durable before
+        returning."""
+        row = row.to_json() if hasattr(row, 'to_json') else row
         self.path.parent.mkdir(parents=True, exist_ok=True)
         with self.path.open('a', encoding='utf-8') as f:
-            f.write(json.dumps(row, sort_keys=True, default=_plain) + '\n')
+            f.write(dumps(row, sort_keys=True) + '\n')
             f.flush()
             os.fsync(f.fileno())
         self.rows[row['key']] = row
 
-
-def _plain(value):
-    """numpy scalars and the like as plain JSON values."""
-    if hasattr(value, 'item'):
-        return value.item()
-    return str(value)

@@ -10,21 +10,23 @@ import csv
 from pathlib import Path
 
 from ..errors import ConfigError
+from .row import Row
 
 FIXED = ('path', 'rig', 'start_time', 'status', 'error', 'passed', 'diagnosis_status',
          'verdict', 'seconds')
 
 
-def flat(rows: list[dict]) -> tuple[list[str], list[dict]]:
+def flat(rows: list[Row]) -> tuple[list[str], list[dict]]:
     """(column names, one flat dict per row)."""
     out, extra = [], {}
     for row in rows:
-        r = {k: row.get(k) for k in FIXED}
-        r['passed'] = (row.get('verify') or {}).get('passed')
-        r['diagnosis_status'] = (row.get('diagnosis') or {}).get('status')
-        for ch, m in (row.get('channels') or {}).items():
+        r = {'path': row.path, 'rig': row.rig, 'start_time': row.start_time,
+             'status': row.status, 'error': row.error, 'passed': row.passed,
+             'diagnosis_status': (row.diagnosis or {}).get('status'), 'verdict': row.verdict,
+             'seconds': row.seconds}
+        for ch, m in row.channels.items():
             r[f'{ch}_rmse'] = m.get('rmse')
-        for key, est in (row.get('params') or {}).items():
+        for key, est in row.params.items():
             r[key] = est.get('value')
             r[f'{key}_stderr'] = est.get('stderr')
         extra.update(dict.fromkeys(k for k in r if k not in FIXED))
@@ -32,7 +34,7 @@ def flat(rows: list[dict]) -> tuple[list[str], list[dict]]:
     return list(FIXED) + sorted(extra), out
 
 
-def write_table(rows: list[dict], path) -> Path:
+def write_table(rows: list[Row], path) -> Path:
     """Write the table as Parquet (``.parquet``) or CSV (``.csv``)."""
     path = Path(path)
     columns, records = flat(rows)

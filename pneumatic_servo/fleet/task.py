@@ -1,8 +1,8 @@
 """Check one recording of a fleet: a pure function of its files, the model and the options.
 
 This is what a Dask worker runs. It never raises for a bad recording: a truncated bag, a
-missing topic, NaN or a bad number in a CSV becomes a row with ``status: error`` and the
-one-line reason, so the rest of the fleet completes.
+missing topic, NaN or a bad number in a CSV becomes a :class:`~.row.Row` with ``status:
+error`` and the one-line reason, so the rest of the fleet completes.
 """
 from __future__ import annotations
 
@@ -15,6 +15,7 @@ from pathlib import Path
 
 from ..errors import PneumaticServoError
 from .discover import Recording, rig_of
+from .row import Row
 
 
 @dataclass(frozen=True)
@@ -89,45 +90,37 @@ def diagnosis_text(found: dict) -> str:
     return found['status'] + ('' if found['verdict'] == 'none' else f': {found["verdict"]}')
 
 
-def blank_row(recording: Recording, key: str, rig: str | None) -> dict:
-    """The row of a recording before anything is known of it (every key of the table)."""
-    return {'path': recording.path, 'rig': rig, 'start_time': None, 'key': key,
-            'status': 'ok', 'error': None, 'channels': {}, 'verify': {}, 'params': {},
-            'verdict': None, 'diagnosis': None}
-
-
 def check_recording(recording: Recording, config: dict, options: TaskOptions,
-                    key: str) -> dict:
+                    key: str) -> Row:
     """One row of the fleet table (never raises for a bad recording)."""
     from ..analysis.compare import limits_for, verify
     from ..io import read_experiment
     from ..model.config import ModelConfig
     t0 = time.perf_counter()
-    row = blank_row(recording, key, recording.rig)
+    found = {'rig': recording.rig}
     try:
         cfg = ModelConfig.from_dict(config)
         exp = read_experiment(recording.path)
-        row['rig'] = rig_of(recording, exp.metadata)
-        row['start_time'] = _start_time(exp.metadata)
-        row['synthetic'] = bool(exp.metadata.get('synthetic', False))
+        found.update(rig=rig_of(recording, exp.metadata), start_time=_start_time(exp.metadata),
+                     synthetic=bool(exp.metadata.get('synthetic', False)))
         limits = options.limits if options.limits is not None else limits_for()
         passed, rows, result = verify(exp, cfg, limits=limits, mode=options.mode)
-        row['channels'] = result['channels']
-        row['units'] = {ch: result['units'][ch] for ch in result['channels']}
-        row['verify'] = {'passed': passed, 'mode': options.mode, 'checks': rows}
+        found.update(channels=result['channels'],
+                     units={ch: result['units'][ch] for ch in result['channels']},
+                     verify={'passed': passed, 'mode': options.mode, 'checks': rows})
         if options.track:
-            row['params'] = _tracked(exp, cfg, options)
+            found['params'] = _tracked(exp, cfg, options)
         if options.diagnose:
             from ..analysis.diagnosis import diagnose
-            found = diagnose([exp], cfg).to_json()
+            diagnosis = diagnose([exp], cfg).to_json()
             # the status too: verdict 'none' is both "the model fits" and "no name fits"
-            row['diagnosis'] = {k: found[k] for k in ('status', 'verdict', 'reason')}
-            row['verdict'] = found['verdict']
+            found['diagnosis'] = {k: diagnosis[k] for k in ('status', 'verdict', 'reason')}
+            found['verdict'] = diagnosis['verdict']
     except PneumaticServoError as exc:
-        row.update(status='error', error=' '.join(str(exc).split()))
+        found.update(status='error', error=' '.join(str(exc).split()))
     except (OSError, UnicodeError, ValueError, RuntimeError) as exc:
-        row.update(status='error', error=f'{type(exc).__name__}: {" ".join(str(exc).split())}')
-    if row['rig'] is None:  # the recording could not be read: no custom data to ask
-        row['rig'] = rig_of(recording, {})
-    row['seconds'] = round(time.perf_counter() - t0, 3)
-    return row
+        found.update(status='error',
+                     error=f'{type(exc).__name__}: {" ".join(str(exc).split())}')
+    if found['rig'] is None:  # the recording could not be read: no custom data to ask
+        found['rig'] = rig_of(recording, {})
+    return Row(recording.path, key=key, seconds=round(time.perf_counter() - t0, 3), **found)

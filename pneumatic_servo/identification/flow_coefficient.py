@@ -13,7 +13,7 @@ back pressure un-chokes the orifice (at high voltages it reads ~20 % low
 otherwise). C0 is taken as known (0.43 in the paper).
 
 The C1 values are then fitted with the symmetric 4th-order polynomial of
-Eq. 40 in |x_v|, with the positive sign convention of MODEL_NOTES 2:
+Eq. 40 in |x_v|, with the positive sign of docs/model.md (settlement 1):
 C1 = p4 x^4 + p3 x^3 + p2 x^2 + p1 x + p0, x = |x_v| [m].
 """
 from __future__ import annotations

@@ -132,7 +132,7 @@ class Identification:
             r = self.refinement
             d['refinement'] = {'values': r.values, 'stderr': r.stderr,
                                'correlation': np.asarray(r.correlation).tolist(),
-                               'free': r.free, 'rms': r.rms, 'success': r.success,
+                               'free': r.keys, 'rms': r.rms, 'success': r.converged,
                                'at_bound': r.at_bound}
         return d
 
@@ -146,9 +146,9 @@ class Identification:
 
 def refinement_report(fit: FitResult) -> str:
     """Values, standard errors and the correlation matrix of an output-error fit."""
-    out = [f'output-error refinement ({"converged" if fit.success else "NOT converged"}: '
+    out = [f'output-error refinement ({"converged" if fit.converged else "NOT converged"}: '
            f'{fit.message}), {fit.n_data} residuals:']
-    for k in fit.free:
+    for k in fit.keys:
         se = fit.stderr[k]
         if se is None:
             out.append(f'  {k} = {fit.values[k]:.6g} (not determined: '
@@ -159,12 +159,12 @@ def refinement_report(fit: FitResult) -> str:
         flag += '  (poorly determined)' if rel > 0.5 else ''
         out.append(f'  {k} = {fit.values[k]:.6g} +/- {se:.2g}{flag}')
     out.append('  correlation:')
-    short = [k.split('.')[-1][:14] for k in fit.free]
+    short = [k.split('.')[-1][:14] for k in fit.keys]
     out.append('    ' + ' '.join(f'{s:>14}' for s in short))
     for s, row in zip(short, np.asarray(fit.correlation)):
         out.append(f'    {s:<14}' + ''.join(f'{v:15.2f}' for v in row)[1:])
-    strong = [(fit.free[i], fit.free[j], fit.correlation[i][j])
-              for i in range(len(fit.free)) for j in range(i)
+    strong = [(fit.keys[i], fit.keys[j], fit.correlation[i][j])
+              for i in range(len(fit.keys)) for j in range(i)
               if abs(fit.correlation[i][j]) > 0.9]
     for a, b, c in strong:
         out.append(f'  {a} and {b} are {c:+.2f} correlated: these data cannot separate them')

@@ -76,7 +76,7 @@ class ModelConfig:
     # ----------------------------------------------------------------- build
     @classmethod
     def paper(cls) -> 'ModelConfig':
-        """The paper's model with its published parameters and MODEL_NOTES defaults."""
+        """The paper's model with its published parameters and the defaults of docs/model.md."""
         return cls.from_dict({})
 
     @classmethod

@@ -101,7 +101,7 @@ def core_begin(t, x, u, ps, P, circuit, c, dx):
     c[C_CIRCUIT] = circuit
     c[C_XV] = spool_displacement(u, P[K_NULL], P[K_GAIN], P[K_HALF_W] + P[K_HOLE_R])
     c[C_INERTIA] = shaft_inertia(P[K_MP], P[K_DF], P[K_J])
-    swept = P[K_AREA] * P[K_DF]  # dV_a/dtheta, MODEL_NOTES 3
+    swept = P[K_AREA] * P[K_DF]  # dV_a/dtheta (docs/model.md, settlement 2)
     if circuit == SERVO:
         th = min(max(x[THETA], 0.0), P[K_STROKE])
         c[C_VA] = P[K_VDA] + swept * th

@@ -3,7 +3,7 @@
 Pressures are absolute [Pa], temperatures [K], flows [kg/s]. Every function
 returns the *signed* flow from side 1 to side 2, so each path is
 bidirectional with the same law and the roles of upstream and downstream
-swapped (MODEL_NOTES 5).
+swapped (docs/model.md, settlement 5).
 """
 import math
 

@@ -46,7 +46,7 @@ def flow_coefficient(x_abs, p0, p1, p2, p3, p4):
     """Orifice flow coefficient C1 at spool travel ``x_abs`` [m] (Eq. 40, sign settled).
 
     C1 = P(|x_v|) with P(x) = p4 x^4 + p3 x^3 + p2 x^2 + p1 x + p0; the paper's
-    printed odd terms have the wrong sign (MODEL_NOTES 2). Coefficients are in
+    printed odd terms have the wrong sign (docs/model.md, settlement 1). Coefficients are in
     1, 1/m, 1/m^2, 1/m^3, 1/m^4.
     """
     x = x_abs

@@ -13,7 +13,7 @@ from ..model.config import ModelConfig
 from ..model.simulate import DEFAULT_RTOL, delayed, measured_states, simulate_batch
 from .inputs import config_for, smoothed_signals, valve_inputs
 from .plans import Plan, open_loop
-from .start import start_states, windows
+from .start import stack_windows, start_states
 
 #: predicted signal -> index in the state vector
 STATE_SIGNALS = {'angle_rad': THETA, 'velocity_rad_s': OMEGA, 'p_a_pa': P_A, 'p_b_pa': P_B,
@@ -75,8 +75,8 @@ def _predict(model, exp, configs, plan, rtol):
     win = max(b - a for a, b in segs)
     P = np.repeat(np.array(params), len(segs), axis=0)
     tw = exp.t[:win] - exp.t[0]
-    XB, _, status = simulate_batch(model, tw, windows(win, segs, us), windows(win, segs, pss),
-                                   X0, P, exp.circuit, rtol=rtol)
+    XB, _, status = simulate_batch(model, tw, stack_windows(win, segs, us),
+                                   stack_windows(win, segs, pss), X0, P, exp.circuit, rtol=rtol)
     out = []
     for j in range(len(cfgs)):
         rows = range(j * len(segs), (j + 1) * len(segs))
@@ -94,8 +94,8 @@ def _predict(model, exp, configs, plan, rtol):
             r = j * len(segs) + i
             if status[r] != 0:
                 return culprit.explain_status(
-                    model.layout, X0[r], tw, windows(win, segs, us)[r],
-                    windows(win, segs, pss)[r], P[r], CIRCUITS[exp.circuit], True, rtol,
+                    model.layout, X0[r], tw, stack_windows(win, segs, us)[r],
+                    stack_windows(win, segs, pss)[r], P[r], CIRCUITS[exp.circuit], True, rtol,
                     model.abs_tol, 10, XB[r], t_offset=exp.t[a] - exp.t[0])
         return ''
     return out, why

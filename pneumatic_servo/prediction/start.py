@@ -68,7 +68,7 @@ def physical_signals(model: Model, cfg: ModelConfig, signals: dict, command_v: n
                           if sig in signals}}
 
 
-def windows(win: int, segments, arrays) -> np.ndarray:
+def stack_windows(win: int, segments, arrays) -> np.ndarray:
     """Stack per-config input arrays into (rows, win) windows starting at each segment,
     padded with the segment's last value."""
     out = []
@@ -98,8 +98,9 @@ def start_states(model: Model, exp: Experiment, signals: dict, cfgs, us, pss, pa
     L0 = np.array([measured_state(model, cfg, exp, sig, a, u[a], ps[a])
                    for cfg, sig, u, ps in zip(cfgs, physical, us, pss) for a, _ in pre])
     P = np.repeat(np.array(params), len(segments), axis=0)
-    XB, _, status = simulate_batch(model, exp.t[:lead + 1] - exp.t[0], windows(lead + 1, pre, us),
-                                   windows(lead + 1, pre, pss), L0, P, exp.circuit)
+    XB, _, status = simulate_batch(model, exp.t[:lead + 1] - exp.t[0],
+                                   stack_windows(lead + 1, pre, us),
+                                   stack_windows(lead + 1, pre, pss), L0, P, exp.circuit)
     keep = [i for i, sig in MEASURED_STATES[exp.circuit] if sig in exp.signals]
     for r, (a, b) in enumerate(pre * len(cfgs)):
         if b - a >= 3 and status[r] == 0:

@@ -19,12 +19,11 @@ from ..io.cdr import (
     pack_float64,
     pack_joint_state,
     pack_scalar,
-    read_stamp_ns,
     unpack_float64,
     unpack_joint_state,
     unpack_scalar,
 )
 
 __all__ = ['F64x2', 'HEADER', 'header_block', 'joint_state_after_header', 'pack_clock',
-           'pack_float64', 'pack_joint_state', 'pack_scalar', 'read_stamp_ns',
-           'unpack_float64', 'unpack_joint_state', 'unpack_scalar']
+           'pack_float64', 'pack_joint_state', 'pack_scalar', 'unpack_float64',
+           'unpack_joint_state', 'unpack_scalar']

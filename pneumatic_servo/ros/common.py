@@ -20,7 +20,6 @@ from rclpy.qos import (
     ReliabilityPolicy,
     qos_profile_sensor_data,
 )
-from sensor_msgs.msg import JointState
 
 from ..control.measurement import Measurement
 from ..control.params import SpecSet
@@ -29,7 +28,7 @@ from ..io.topics import CELSIUS_K, SIGNAL_TOPIC, TOPICS
 from . import cdr
 
 # ----------------------------------------------------------------------------- topics
-#: relative names (INTERFACES.md), so a namespace or remap moves them; declared once, in
+#: relative names (the interface contract), so a namespace or remap moves them; declared once, in
 #: pneumatic_servo.io.topics
 COMMAND = SIGNAL_TOPIC['command_v']
 JOINT_STATES = SIGNAL_TOPIC['angle_rad']
@@ -56,17 +55,12 @@ SENSOR_QOS = qos_profile_sensor_data
 COMMAND_QOS = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE,
                          history=HistoryPolicy.KEEP_LAST, durability=DurabilityPolicy.VOLATILE)
 DIAGNOSTICS_QOS = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)
-CLOCK_QOS = QoSProfile(depth=1, reliability=ReliabilityPolicy.BEST_EFFORT)
 
 
 # ----------------------------------------------------------------------------- time
 def stamp_to_s(stamp) -> float:
     """``builtin_interfaces/Time`` -> seconds."""
     return stamp.sec + stamp.nanosec * 1e-9
-
-
-def stamp_to_ns(stamp) -> int:
-    return stamp.sec * 1_000_000_000 + stamp.nanosec
 
 
 def set_stamp(stamp, ns: int) -> None:
@@ -102,15 +96,6 @@ class MeasurementPacker:
             head, self.name, float(m.angle_rad), float(m.velocity_rad_s),
             float(m.effort_n_m))))
         return out
-
-
-def joint_index(msg: JointState, joint_name: str):
-    """Index of ``joint_name`` in a JointState (a single unnamed joint counts), or None."""
-    if joint_name in msg.name:
-        return list(msg.name).index(joint_name)
-    if len(msg.position) == 1 and not msg.name:
-        return 0
-    return None
 
 
 # ------------------------------------------------------------------------ parameters

@@ -39,6 +39,7 @@ from ..control.model_based import SMC_SPECS
 from ..control.params import Spec, SpecSet
 from ..control.pid import PID_SPECS, PidController
 from ..control.reference import Reference, Trajectory, TrajectoryPoint
+from ..effects.layout import CORE_INDEX, CORE_PARAMS
 from ..errors import ConfigError
 from . import cdr, common, private
 from .common import COMMAND_QOS, SENSOR_QOS
@@ -63,7 +64,8 @@ NODE_SPECS = [
     Spec('model_config', '', "model config YAML for smc ('' = the paper's rig)",
          read_only=True),
     Spec('initial_setpoint_rad', math.nan, 'target before any setpoint (NaN = hold the first '
-         'measured angle)', 'rad', 0.0, 6.5, read_only=True, allow_nan=True),
+         'measured angle)', 'rad', 0.0, CORE_PARAMS[CORE_INDEX['stroke_rad']].upper,
+         read_only=True, allow_nan=True),
     Spec('input_timeout_s', 0.5, 'measurements older than this are reported stale', 's', 0.001,
          60.0),
     Spec('max_stamp_skew_s', 10.0, 'a sample whose stamp jumps by more than this against the '

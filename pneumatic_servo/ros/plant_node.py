@@ -34,6 +34,7 @@ from std_msgs.msg import Float64
 
 from ..control.gate import MAX_V, MIN_V, SAFE_V, WATCHDOG_S, OutputGate
 from ..control.params import Spec, SpecSet
+from ..effects.layout import CORE_INDEX, CORE_PARAMS
 from ..errors import ConfigError, PneumaticServoError
 from . import cdr, common
 from .common import COMMAND_QOS, SENSOR_QOS, MeasurementPacker
@@ -66,10 +67,12 @@ PLANT_SPECS = SpecSet([
     Spec('integrator', 'adaptive', 'sim: adaptive (error-controlled, work-capped: default) or '
          'fixed-step RK4 (constant cost)',
          choices=('fixed', 'adaptive'), read_only=True),
-    Spec('initial_angle_rad', math.nan, 'sim and virtual DAQ: start angle', 'rad', 0.0, 6.5,
+    Spec('initial_angle_rad', math.nan, 'sim and virtual DAQ: start angle', 'rad', 0.0,
+         CORE_PARAMS[CORE_INDEX['stroke_rad']].upper,
          read_only=True, allow_nan=True),
-    Spec('supply_pa', math.nan, "sim: supply pressure (NaN = the config's)", 'Pa', 1.1e5, 2.0e6,
-         allow_nan=True),
+    Spec('supply_pa', math.nan, "sim: supply pressure (NaN = the config's)", 'Pa',
+         CORE_PARAMS[CORE_INDEX['supply_pressure_pa']].lower,
+         CORE_PARAMS[CORE_INDEX['supply_pressure_pa']].upper, allow_nan=True),
     Spec('rig_config', '', "rig wiring and scaling YAML ('' = config/rig_pci6229.yaml)",
          read_only=True),
     Spec('daq', 'nidaqmx', 'rig: DAQ driver', choices=('nidaqmx', 'virtual'), read_only=True),

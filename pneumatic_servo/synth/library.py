@@ -146,7 +146,7 @@ Regenerate (same seed, same records):
 |---|---|---|---|---|
 {chr(10).join(rows)}
 
-Bags follow INTERFACES.md: `valve/command` (Float64, timed by record time),
+Bags follow the interface contract (docs/interfaces.md): `valve/command` (Float64, timed by record time),
 `joint_states` (position; velocity from the encoder), `chamber_a/pressure`,
 `chamber_b/pressure`, `supply/pressure` (FluidPressure, absolute Pa, timed by
 `header.stamp`), `chamber_a/temperature`, `chamber_b/temperature` (blocked
@@ -199,9 +199,3 @@ the paper's values would fail its tests (`truth.yaml` has the full config):
     path = outdir / 'README.md'
     path.write_text(text)
     return path
-
-
-def library_truth(outdir) -> ModelConfig:
-    """The ground-truth config stored with a generated library."""
-    return ModelConfig.load(Path(outdir) / TRUTH_FILE)
-

@@ -11,7 +11,7 @@ from ..model.config import ModelConfig
 
 #: the identified parameters of the synthetic rig ('owner.name' -> SI value)
 TRUTH_VALUES = {
-    # C1(|x_v|) polynomial, Eq. 40 with the sign settled (MODEL_NOTES 2): 5-13 % above the paper's
+    # C1(|x_v|) polynomial, Eq. 40 with the sign settled (docs/model.md): 5-13 % above the paper's
     'orifice_flow.flow_coefficient_p0': 0.4852,
     'orifice_flow.flow_coefficient_p1_per_m': 1850.0,
     'orifice_flow.flow_coefficient_p2_per_m2': -3.30e6,

@@ -16,8 +16,9 @@ from ..analysis.compare import resolve_config
 from ..model.config import ModelConfig
 from .alerts import Alert, detect_alerts
 from .discover import Recording, rig_of
+from .row import Row
 from .store import RowStore
-from .task import TaskOptions, blank_row, check_recording, content_key
+from .task import TaskOptions, check_recording, content_key
 
 #: one thread per local worker process, numba's parallel batches and BLAS included: the
 #: workers already fill the cores, and more threads would only contend for them
@@ -38,17 +39,17 @@ class FleetOptions:
 
 @dataclass
 class FleetResult:
-    rows: list[dict]
+    rows: list[Row]
     alerts: list[Alert]
     computed: int  # recordings checked in this run (the rest came from the store)
 
     @property
     def failed(self) -> bool:
-        return any(r['status'] == 'error' or (r.get('verify') or {}).get('passed') is False
-                   for r in self.rows)
+        return any(r.failed for r in self.rows)
 
     def to_json(self) -> dict:
-        return {'recordings': self.rows, 'alerts': [a.to_json() for a in self.alerts]}
+        return {'recordings': [r.to_json() for r in self.rows],
+                'alerts': [a.to_json() for a in self.alerts]}
 
 
 def parameter_names(config: ModelConfig, track) -> callable:
@@ -74,7 +75,7 @@ def _client(options: FleetOptions):
     return Client(cluster), cluster
 
 
-def _lost(recording: Recording, key: str, exc: BaseException) -> dict:
+def _lost(recording: Recording, key: str, exc: BaseException) -> Row:
     """The row of a recording whose task died with its worker or with a bug (not stored: a
     rerun retries it)."""
     from distributed import KilledWorker
@@ -83,8 +84,7 @@ def _lost(recording: Recording, key: str, exc: BaseException) -> dict:
     else:
         why = (f'internal error {type(exc).__name__}: {" ".join(str(exc).split())}; please '
                'report it')
-    return {**blank_row(recording, key, rig_of(recording, {})), 'status': 'error',
-            'error': why}
+    return Row(recording.path, rig_of(recording, {}), key=key, status='error', error=why)
 
 
 def run_fleet(recordings: list[Recording], config: ModelConfig,
@@ -119,6 +119,7 @@ def run_fleet(recordings: list[Recording], config: ModelConfig,
             client.close()
             if cluster is not None:
                 cluster.close()
-    rows = [store.rows.get(k) or lost[k] for k in keys]
-    alerts = detect_alerts(rows, parameter_names(config, options.task.track))
+    rows = [Row.from_json(store.rows[k]) if k in store else lost[k] for k in keys]
+    alerts = detect_alerts([r.to_json() for r in rows],
+                           parameter_names(config, options.task.track))
     return FleetResult(rows, alerts, len(todo))

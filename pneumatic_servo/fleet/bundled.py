@@ -8,10 +8,11 @@ from pathlib import Path
 
 from ..errors import ExperimentError
 from ..files import bundled
+from ..jsonable import dumps
 from ..model.config import ModelConfig
 from .discover import find_recordings
 from .report import write_report
-from .run import FleetOptions, parameter_names, run_fleet
+from .cluster import FleetOptions, parameter_names, run_fleet
 from .task import TaskOptions
 
 FLEET_DEMO = 'fleet_demo'
@@ -39,13 +40,13 @@ def run_fleet_demo(out_dir, log=print, fleet_dir=None) -> dict:
                        limits=limits_for(MAX_ANGLE_ERROR_DEG, MAX_PRESSURE_ERROR_PA))
     result = run_fleet(find_recordings([fleet_dir]), config,
                        FleetOptions(out_dir / 'rows.jsonl', progress=False, task=task))
-    (out_dir / 'fleet.json').write_text(json.dumps(result.to_json(), indent=1, default=str))
+    (out_dir / 'fleet.json').write_text(dumps(result.to_json(), indent=1))
     page = write_report(out_dir, result.rows, result.alerts, parameter_names(config, TRACK))
     for alert in result.alerts:
         log(f'ALERT {alert.text}')
-    errors = [r for r in result.rows if r['status'] == 'error']
+    errors = [r for r in result.rows if r.status == 'error']
     for row in errors:
-        log(f'error {Path(row["path"]).parent.name}/{Path(row["path"]).name}: {row["error"]}')
+        log(f'error {Path(row.path).parent.name}/{Path(row.path).name}: {row.error}')
     expected = {truth['leaking_rig'], truth['rubbing_rig']}
     found = {a.rig for a in result.alerts}
     return {'status': 'ok' if found == expected and len(errors) == 1 else 'failed',
