@@ -95,3 +95,65 @@ def test_the_walk_sees_imports_inside_functions():
     assert inner
     seen = {(p.name, line) for p, line, _, _ in package_imports()}
     assert all(('demo.py', line) in seen for line in inner)
+
+
+def module_graph() -> dict[str, set[str]]:
+    """Module -> the package's modules it imports (at any depth of its syntax tree; a name
+    imported from a package counts as its submodule where one has that name)."""
+    modules = {}
+    for path in sorted(ROOT.rglob('*.py')):
+        module, is_package = _module(path)
+        modules[module] = (path, is_package)
+
+    def known(target: str) -> str | None:  # the longest prefix that is a module
+        parts = target.split('.')
+        while parts and '.'.join(parts) not in modules:
+            parts.pop()
+        return '.'.join(parts) or None
+
+    graph = {}
+    for module, (path, is_package) in modules.items():
+        edges = graph.setdefault(module, set())
+        for node in ast.walk(ast.parse(path.read_text(), str(path))):
+            if not isinstance(node, (ast.Import, ast.ImportFrom)):
+                continue
+            targets = _targets(node, module, is_package)
+            if isinstance(node, ast.ImportFrom) and node.module:
+                targets += [f'{targets[0]}.{a.name}' for a in node.names]
+            edges.update(t for t in map(known, targets) if t not in (None, module))
+    return graph
+
+
+def import_cycles(graph: dict[str, set[str]]) -> list[list[str]]:
+    """The cycles of ``graph``: its strongly connected parts of more than one module."""
+    index, low, stack, cycles = {}, {}, [], []
+
+    def visit(v):
+        index[v] = low[v] = len(index)
+        stack.append(v)
+        for w in graph.get(v, ()):
+            if w not in index:
+                visit(w)
+                low[v] = min(low[v], low[w])
+            elif w in stack:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            part = stack[stack.index(v):]
+            del stack[stack.index(v):]
+            if len(part) > 1:
+                cycles.append(sorted(part))
+
+    for v in sorted(graph):
+        if v not in index:
+            visit(v)
+    return cycles
+
+
+def test_no_import_cycle_inside_a_package():
+    """Modules of one package import each other one way only (imports inside functions
+    count: they still tie the two modules together)."""
+    graph = module_graph()
+    assert 'pneumatic_servo.ros.loop' in graph['pneumatic_servo.ros.recorder']
+    assert import_cycles({'a': {'b'}, 'b': {'c'}, 'c': {'a'}, 'd': {'a'}}) == [['a', 'b', 'c']]
+    cycles = import_cycles(graph)
+    assert not cycles, 'import cycles:\n' + '\n'.join(' <-> '.join(c) for c in cycles)

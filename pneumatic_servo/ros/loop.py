@@ -32,7 +32,9 @@ import signal
 import threading
 import time
 
+import rclpy
 from rclpy.executors import SingleThreadedExecutor
+from rclpy.signals import SignalHandlerOptions
 
 from . import private
 
@@ -58,6 +60,15 @@ STOP = _Stop()
 STOP_SIGNALS = tuple(getattr(signal, name) for name in (
     'SIGINT', 'SIGTERM', 'SIGHUP', 'SIGQUIT', 'SIGUSR1', 'SIGUSR2', 'SIGALRM', 'SIGVTALRM',
     'SIGPROF', 'SIGXCPU', 'SIGXFSZ') if hasattr(signal, name))
+
+
+def init_ros(args=None) -> None:
+    """``rclpy.init`` without rclpy's signal handlers (the event loop handles signals)."""
+    rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO)
+
+
+def shutdown_ros() -> None:
+    rclpy.try_shutdown()
 
 
 def install_stop_handlers(listener=None) -> None:

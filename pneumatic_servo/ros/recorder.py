@@ -143,8 +143,7 @@ def record(out, duration_s: float, storage: str = 'sqlite3', topics=DEFAULT_TOPI
     ``{'bag': path, 'counts': {...}, 'stopped': why}``. Initialises and shuts down rclpy."""
     from rclpy.parameter import Parameter
 
-    from .loop import STOP, EventLoop, install_stop_handlers
-    from .run import init_ros, shutdown_ros
+    from .loop import STOP, EventLoop, init_ros, install_stop_handlers, shutdown_ros
     install_stop_handlers()
     init_ros(args)
     rec = None

@@ -15,21 +15,10 @@ import subprocess
 import sys
 import time
 
-import rclpy
 from rclpy.parameter import Parameter
-from rclpy.signals import SignalHandlerOptions
 
 from ..errors import ConfigError, PneumaticServoError
-from .loop import EventLoop
-
-
-def init_ros(args=None) -> None:
-    """``rclpy.init`` without rclpy's signal handlers (the event loop handles signals)."""
-    rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO)
-
-
-def shutdown_ros() -> None:
-    rclpy.try_shutdown()
+from .loop import EventLoop, init_ros, shutdown_ros
 
 
 def _sim_time(on: bool):
