@@ -3,7 +3,7 @@ those inside functions, points to the importer's own package or a lower layer.
 
     physics -> effects -> model -> prediction -> fitting
       -> {identification, analysis, control} -> {io, rig} -> {synth, fleet, testing, workflow}
-      -> ros -> cli
+      -> monitor -> ros -> cli
 
 (``_jit``, ``errors``, ``jsonable`` and ``__version__`` are below everything, then ``files``;
 ``smoothing`` sits with physics; ``experiment``, the data type every layer above the model
@@ -25,6 +25,7 @@ LAYERS = (
     ('identification', 'analysis', 'control'),
     ('io', 'rig'),
     ('synth', 'fleet', 'testing', 'workflow'),
+    ('monitor',),
     ('ros',),
     ('cli',),
 )

@@ -15,7 +15,7 @@ from ..errors import PneumaticServoError
 
 #: verb -> module in this package
 VERBS = ('demo', 'simulate', 'compare', 'verify', 'identify', 'diagnose', 'generate', 'up',
-         'record', 'plant', 'controller', 'fleet')
+         'record', 'plant', 'controller', 'monitor', 'fleet')
 
 
 class Parser(argparse.ArgumentParser):

@@ -77,6 +77,11 @@ INFRASTRUCTURE = frozenset({
     'joint_trajectory',
 })
 
+#: namespaces of what a monitor publishes beside the measurements (``model/joint_states``,
+#: ``model/chamber_a/pressure``: the model's predictions; ``monitor/residuals``): never
+#: measurements, so a bag that recorded them reads as if they were not there
+DERIVED_NAMESPACES = frozenset({'model', 'monitor'})
+
 #: topics that must be present for a time series of each circuit: any one of each tuple
 REQUIRED = {
     'servo': (('valve/command',), ('joint_states',)),

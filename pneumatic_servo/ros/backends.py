@@ -26,6 +26,7 @@ JOINT_STATES = SIGNAL_TOPIC['angle_rad']
 PRESSURE_A, PRESSURE_B, PRESSURE_SUPPLY = (SIGNAL_TOPIC[s] for s in ('p_a_pa', 'p_b_pa',
                                                                     'supply_pa'))
 TEMPERATURE_A, TEMPERATURE_B = SIGNAL_TOPIC['t_a_k'], SIGNAL_TOPIC['t_b_k']
+COMMAND = SIGNAL_TOPIC['command_v']
 
 
 class Backend:
@@ -81,6 +82,7 @@ class SimBackend(Backend):
                  supply_pa: float = math.nan, method: str = 'adaptive'):
         from ..model import Model, Stepper, initial_state
         self.model = Model(model_config)
+        self.config = model_config
         self.period_s = float(period_s)
         ps = None if not math.isfinite(supply_pa) else float(supply_pa)
         angle = None if not math.isfinite(initial_angle_rad) else float(initial_angle_rad)
@@ -102,10 +104,40 @@ class SimBackend(Backend):
     def start(self) -> Measurement:
         return self._measure(self.stepper.x)
 
+    def set_values(self, text: str) -> None:
+        """Set model parameters of the running plant from ``'owner.name=value, ...'`` [SI]
+        (parameters of the model_config's components only: the compiled composition does
+        not change; an effect put in model_config at its neutral value is switched on
+        this way). From the next period on; ConfigError names a bad item, and then
+        nothing changes."""
+        cfg = self.config.copy()
+        for key, value in parse_values(text).items():
+            cfg.set(key, value)
+        self.stepper.params = self.model.param_vector(cfg)
+        self.values = text
+
     def step(self, command_v: float) -> Measurement:
         x = self.stepper.step(command_v)
         self.t = self.stepper.t
         return self._measure(x)
+
+
+def parse_values(text: str) -> dict[str, float]:
+    """``'owner.name=value, ...'`` -> {key: value} [SI]; ConfigError names a bad item."""
+    out = {}
+    for item in (t.strip() for t in str(text).split(',')):
+        if not item:
+            continue
+        key, sep, raw = item.partition('=')
+        try:
+            value = float(raw)
+        except ValueError:
+            value = math.nan
+        if not sep or '.' not in key or not math.isfinite(value):
+            raise ConfigError(f'sim_values: {item!r}: write owner.name=number in SI, e.g. '
+                              'piston_seal_leakage.seal_leak_area_m2=3e-8')
+        out[key.strip()] = value
+    return out
 
 
 class RigBackend(Backend):
@@ -167,11 +199,13 @@ REPLAYED = {'p_a_pa': PRESSURE_A, 'p_b_pa': PRESSURE_B, 'supply_pa': PRESSURE_SU
             't_a_k': TEMPERATURE_A, 't_b_k': TEMPERATURE_B}
 
 
-def read_replay_events(path, joint_name: str) -> list[ReplayEvent]:
+def read_replay_events(path, joint_name: str, with_command: bool = False
+                       ) -> list[ReplayEvent]:
     """The measurements of a rosbag2 (sqlite3 or MCAP), in time order, each at its own
     recorded stamp, read and checked by :func:`pneumatic_servo.io.read_series` (the
     package's bag reader; no resampling, and no topic required but joint_states: a replay
-    needs no valve command).
+    needs no valve command). ``with_command``: the recorded valve commands too, at their
+    record times (for a monitor beside a replay without a controller).
 
     Temperatures go out in degC, as ``sensor_msgs/Temperature`` carries them. Raises
     ExperimentError with the fix.
@@ -182,6 +216,10 @@ def read_replay_events(path, joint_name: str) -> list[ReplayEvent]:
         raise ExperimentError(f'bag {path} has no joint_states of joint {joint_name!r}; record '
                               'joint_states (and the pressures) to replay it')
     events = []
+    if with_command and 'command_v' in series:
+        stamps, values = series['command_v']
+        events += [ReplayEvent(int(t), COMMAND, float(v))
+                   for t, v in zip(stamps.tolist(), values.tolist())]
     for sig, topic in REPLAYED.items():
         if sig in series:
             offset = CELSIUS_K if sig.startswith('t_') else 0.0
@@ -193,8 +231,10 @@ def read_replay_events(path, joint_name: str) -> list[ReplayEvent]:
     velocity, effort = (series.get(s, nan)[1] for s in ('velocity_rad_s', 'effort_n_m'))
     events += [ReplayEvent(int(t), JOINT_STATES, float(a), float(v), float(e))
                for t, a, v, e in zip(stamps.tolist(), angle, velocity, effort)]
-    # stable: at one stamp the scalars go first, joint_states last (it triggers the controller)
-    events.sort(key=lambda e: (e.t_ns, e.topic == JOINT_STATES))
+    # stable: at one stamp the scalars go first, then joint_states (it triggers the
+    # controller), then a command recorded at that time (it answered that sample)
+    rank = {JOINT_STATES: 1, COMMAND: 2}
+    events.sort(key=lambda e: (e.t_ns, rank.get(e.topic, 0)))
     return events
 
 
@@ -203,11 +243,12 @@ class ReplaySource:
 
     kind = 'replay'
 
-    def __init__(self, path, joint_name: str, rate: float = 1.0, loop: bool = False):
+    def __init__(self, path, joint_name: str, rate: float = 1.0, loop: bool = False,
+                 with_command: bool = False):
         if not rate > 0:
             raise ConfigError(f'replay_rate = {rate!r} must be > 0')
         self.path = Path(path)
-        self.events = read_replay_events(path, joint_name)
+        self.events = read_replay_events(path, joint_name, with_command)
         self.rate, self.loop = float(rate), bool(loop)
         self.description = f'replay of {self.path.name} ({len(self.events)} measurements)'
         self.hardware_id = f'replay:{self.path.name}'

@@ -26,6 +26,11 @@ HEADERS = {
                         'config/controller.yaml).\nDefaults tuned on the simulated paper rig '
                         '(docs/ros.md): the PID gains act on rad and V;\nsmc_* tune the '
                         'model-based sliding mode.'),
+    'monitor.yaml': ('Monitor node parameters (ROS 2 parameter file; ros2 launch, or\n'
+                     'pneumatic-servo monitor --ros-args --params-file config/monitor.yaml).\n'
+                     'The model beside the running rig: every window judged against its own '
+                     'prediction\nfloor, a CUSUM per channel at a stated false-alarm rate '
+                     'per hour (docs/ros.md).'),
 }
 
 
@@ -55,9 +60,11 @@ def render(specs: SpecSet, header: str) -> str:
 def files() -> dict[str, str]:
     """File name -> content of every generated parameter file."""
     from .controller_node import CONTROLLER_SPECS
+    from .monitor_node import MONITOR_SPECS
     from .plant_node import PLANT_SPECS
     return {'plant_sim.yaml': render(PLANT_SPECS, HEADERS['plant_sim.yaml']),
-            'controller.yaml': render(CONTROLLER_SPECS, HEADERS['controller.yaml'])}
+            'controller.yaml': render(CONTROLLER_SPECS, HEADERS['controller.yaml']),
+            'monitor.yaml': render(MONITOR_SPECS, HEADERS['monitor.yaml'])}
 
 
 def main(argv=None) -> int:

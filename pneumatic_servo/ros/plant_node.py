@@ -52,6 +52,8 @@ def _cross(v: dict):
                 "the bag's time); use clock_mode:=free")
     if v.get('backend') == 'replay' and not v.get('bag'):
         return 'backend replay needs bag:=PATH (a rosbag2 directory)'
+    if v.get('sim_values') and v.get('backend', 'sim') != 'sim':
+        return 'sim_values needs backend sim (it sets parameters of the simulated plant)'
     return None
 
 
@@ -79,6 +81,12 @@ PLANT_SPECS = SpecSet([
     Spec('bag', '', 'replay: rosbag2 directory (sqlite3 or MCAP)', read_only=True),
     Spec('replay_rate', 1.0, 'replay: speed relative to the recording', '1', 0.01, 100.0),
     Spec('replay_loop', False, 'replay: start again at the end', read_only=True),
+    Spec('replay_command', False, 'replay: also publish the recorded valve commands on '
+         'valve/command, as ros2 bag play would (for a monitor beside a replay; run no '
+         'controller then)', read_only=True),
+    Spec('sim_values', '', "sim: model parameter values of the running plant, 'owner.name="
+         "value, ...' [SI], settable at run time (e.g. piston_seal_leakage.seal_leak_area_m2="
+         '3e-8 switches on a seal leak that model_config holds at its neutral value)'),
     Spec('replay_clock', False, "replay: also publish the bag's time on /clock (for a stack "
          'with use_sim_time; adds /clock to the graph)', read_only=True),
     Spec('watchdog_s', WATCHDOG_S, 'valve goes safe (latched fault) after this long without '
@@ -133,6 +141,9 @@ class PlantNode(LifecycleNode):
                           if lockstep or replay_clock else None)
         self.command_sub = self.create_subscription(Float64, common.COMMAND, self._on_command,
                                                     COMMAND_QOS, raw=True)
+        self.replay_command_pub = (
+            self.create_publisher(Float64, common.COMMAND, COMMAND_QOS)
+            if self.p['backend'] == 'replay' and self.p['replay_command'] else None)
         self.hot_subscriptions = [self.command_sub]
         self._reset_counters()
         self._next_diag = 0.0
@@ -150,6 +161,15 @@ class PlantNode(LifecycleNode):
     def _on_set_parameters(self, params):
         result = common.validate_update(PLANT_SPECS, self.p, params,
                                         active=self.state == 'active')
+        values = [prm.value for prm in params if prm.name == 'sim_values']
+        if result.successful and values and self.backend is not None \
+                and self.backend.kind == 'sim':
+            try:
+                self.backend.set_values(values[-1])
+            except ConfigError as exc:
+                result.successful, result.reason = False, str(exc)
+            else:
+                self.get_logger().info(f'sim_values set: {values[-1]!r}')
         if result.successful:
             for prm in params:
                 if prm.name in self.p:
@@ -189,6 +209,8 @@ class PlantNode(LifecycleNode):
         if p['backend'] == 'sim':
             self.backend = SimBackend(model_config, self.period_s, p['initial_angle_rad'],
                                       p['supply_pa'], p['integrator'])
+            if p['sim_values']:
+                self.backend.set_values(p['sim_values'])
         elif p['backend'] == 'rig':
             from ..rig import RigConfig
             from .paths import resolve
@@ -197,7 +219,7 @@ class PlantNode(LifecycleNode):
                                       p['initial_angle_rad'])
         else:
             self.replay = ReplaySource(p['bag'], p['joint_name'], p['replay_rate'],
-                                       p['replay_loop'])
+                                       p['replay_loop'], p['replay_command'])
         self.description = (self.backend or self.replay).description
 
     def _set_priority(self) -> None:
@@ -473,6 +495,9 @@ class PlantNode(LifecycleNode):
         sec, nsec = divmod(stamp_ns, 1_000_000_000)
         if self.clock_pub is not None:
             self.clock_pub.publish(cdr.pack_clock(sec, nsec))
+        if e.topic == common.COMMAND:
+            self.replay_command_pub.publish(cdr.pack_float64(e.value))
+            return
         if e.topic == common.JOINT_STATES:
             data = cdr.pack_joint_state(sec, nsec, self.packer.frame, self.packer.name, e.value,
                                         e.velocity, e.effort)

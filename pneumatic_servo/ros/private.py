@@ -9,6 +9,8 @@ rclpy release changes it:
 * a small wait set of our own on the hot subscriptions (``_rclpy.WaitSet``), and
   ``take_message`` on a subscription's handle: the stock executors rebuild their
   wait set from every entity of every node on each turn;
+* a message's source timestamp, which ``take_message`` returns beside it (the monitor
+  orders commands against measurements by it);
 * the ``/clock`` subscription rclpy creates for ``use_sim_time``
   (``node._time_source._clock_sub``): with sim time it changes every period and must be
   waited on with the measurements, or a message is stamped with a clock some periods
@@ -41,6 +43,17 @@ def take(subscription):
     """One message of ``subscription`` (raw bytes if it was created raw), or None."""
     got = subscription.handle.take_message(subscription.msg_type, subscription.raw)
     return None if got is None else got[0]
+
+
+def take_with_source(subscription):
+    """One message of ``subscription`` and its source timestamp [ns, the publisher's system
+    clock] and receive timestamp [ns], or None: ``(message, source_ns, received_ns)``.
+    The monitor orders stampless commands against measurements by when they were published."""
+    got = subscription.handle.take_message(subscription.msg_type, subscription.raw)
+    if got is None:
+        return None
+    msg, info = got
+    return msg, int(info['source_timestamp']), int(info['received_timestamp'])
 
 
 def clock_subscription(node):

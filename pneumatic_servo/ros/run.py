@@ -36,6 +36,11 @@ def make_controller(overrides: dict, use_sim_time: bool = False, namespace: str 
                           parameter_overrides=_sim_time(use_sim_time))
 
 
+def make_monitor(overrides: dict, namespace: str = ''):
+    from .monitor_node import MonitorNode
+    return MonitorNode(overrides=overrides, namespace=namespace)
+
+
 def run_nodes(factories, duration_s: float = math.inf, ros_args=None, on_ready=None) -> str:
     """Create nodes from ``factories`` (callables), run them in one event loop until a signal
     or ``duration_s`` [wall s]; then shut every node down safely. Returns why it stopped."""

@@ -29,6 +29,17 @@ def test_wait_set_take_and_clock_subscription(domain):
         assert isinstance(msg, Float64) and msg.data == 4.5
         data = private.take(raw)
         assert isinstance(data, bytes) and len(data) >= 12  # CDR: header + one float64
+        import time
+        before = time.time_ns()
+        pub.publish(Float64(data=5.5))
+        got = None
+        for _ in range(200):
+            got = private.take_with_source(raw)  # take_message's info['source_timestamp']
+            if got is not None:
+                break
+            private.wait(ws, [raw], 50_000_000)
+        assert got is not None and isinstance(got[0], bytes)
+        assert before - 1_000_000_000 < got[1] <= got[2] + 1_000_000, 'source/receive stamps'
         assert private.clock_subscription(node) is None  # no sim time, no /clock
         sim = rclpy.create_node('private_probe_sim', context=ctx, parameter_overrides=[
             Parameter('use_sim_time', Parameter.Type.BOOL, True)])

@@ -9,7 +9,14 @@ from pathlib import Path
 
 from ...errors import ExperimentError
 from ...files import load_yaml
-from ..topics import INFRASTRUCTURE, KEY_PREFIX, REQUIRED, SYNTHETIC_KEY, TOPICS
+from ..topics import (
+    DERIVED_NAMESPACES,
+    INFRASTRUCTURE,
+    KEY_PREFIX,
+    REQUIRED,
+    SYNTHETIC_KEY,
+    TOPICS,
+)
 
 
 # -------------------------------------------------------------------------- custom data
@@ -75,6 +82,8 @@ def match_topics(where: str, names: list[str], namespace: str | None, topic_map,
             if not rel.startswith(ns + '/'):
                 continue
             rel = rel[len(ns) + 1:]
+        if DERIVED_NAMESPACES.intersection(rel.split('/')[:-1]):
+            continue  # a monitor's predictions and statistics, not measurements
         hit = next((t for t in TOPICS if rel == t or rel.endswith('/' + t)), None)
         if hit is None:
             unknown.append(rel)

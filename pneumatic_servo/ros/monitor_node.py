@@ -1,0 +1,533 @@
+"""The monitor node: the identified model beside the running rig, judging it as it runs.
+
+Subscribes (best effort, deep queues: it can never slow a publisher down) to the
+interface topics of any plant backend, sim, rig or replay: ``joint_states``,
+``chamber_a/pressure``, ``chamber_b/pressure``, ``supply/pressure``, the two temperatures
+when published, and ``valve/command``. It publishes nothing a plant or a controller reads:
+
+* ``model/joint_states``, ``model/chamber_a/pressure``, ``model/chamber_b/pressure``: what
+  the model predicted, k-step from the measured state, stamped like the measurements it
+  predicts (overlay them in a plot);
+* ``monitor/residuals`` (std_msgs/Float64MultiArray, layout in :data:`RESIDUAL_FIELDS`):
+  per channel the departure in units of the floor, the RMS residual and floor, the CUSUM,
+  its threshold and p-value;
+* ``monitor/effects`` (std_msgs/Float64MultiArray, :data:`EFFECT_FIELDS`): the tracked
+  effects' estimates with standard errors;
+* ``/diagnostics``: ``<node>: monitor`` (the monitor itself), ``<node>: monitor angle|p_a|p_b``
+  (OK / WARN / ERROR per channel, with the departure, the regime and the p-value) and
+  ``<node>: monitor <effect.parameter>`` (WARN when it trends), hardware_id ``monitor``.
+
+The work is done in worker processes (:mod:`pneumatic_servo.monitor.worker`); this node only
+takes messages, pairs commands with measurements (:mod:`pneumatic_servo.monitor.assemble`),
+hands samples over and publishes what comes back. A lifecycle node with ``autostart``, as
+the plant.
+"""
+from __future__ import annotations
+
+import math
+import time
+
+from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
+from rclpy.lifecycle import LifecycleNode, LifecycleState, TransitionCallbackReturn
+from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy
+from sensor_msgs.msg import FluidPressure, JointState, Temperature
+from std_msgs.msg import Float64, Float64MultiArray, MultiArrayDimension
+
+from ..control.params import Spec, SpecSet
+from ..errors import ConfigError, PneumaticServoError
+from . import cdr, common, private
+
+monotonic = time.monotonic
+#: the monitor's topics (relative: a namespace moves them with the rig's)
+MODEL_JOINT_STATES = 'model/joint_states'
+MODEL_PRESSURE_A = 'model/chamber_a/pressure'
+MODEL_PRESSURE_B = 'model/chamber_b/pressure'
+RESIDUALS = 'monitor/residuals'
+EFFECTS = 'monitor/effects'
+#: topic -> message type, for the recorder
+MONITOR_TOPIC_TYPES = {MODEL_JOINT_STATES: 'sensor_msgs/msg/JointState',
+                       MODEL_PRESSURE_A: 'sensor_msgs/msg/FluidPressure',
+                       MODEL_PRESSURE_B: 'sensor_msgs/msg/FluidPressure',
+                       RESIDUALS: 'std_msgs/msg/Float64MultiArray',
+                       EFFECTS: 'std_msgs/msg/Float64MultiArray'}
+#: columns of ``monitor/residuals``, one row per channel (angle, p_a, p_b); SI units
+RESIDUAL_FIELDS = ('data_time_s', 'ratio', 'rms', 'floor_rms', 'cusum', 'threshold',
+                   'p_value', 'window_p_value', 'z', 'level', 'windows')
+#: columns of ``monitor/effects``, one row per tracked parameter; SI units; alert 0/1
+EFFECT_FIELDS = ('data_time_s', 'value', 'stderr', 'alert')
+LEVEL_NUMBER = {'ok': 0, 'warn': 1, 'error': 2}
+#: [s] wall time between hand-overs of finished samples to the judge
+SEND_PERIOD_S = 0.02
+#: messages taken per subscription and turn at most (a turn stays short)
+TAKE_LIMIT = 2000
+#: deep best-effort queues: the monitor may lag a burst, a publisher never waits for it
+LISTEN_QOS = QoSProfile(depth=5000, history=HistoryPolicy.KEEP_LAST,
+                        reliability=ReliabilityPolicy.BEST_EFFORT)
+MODEL_QOS = QoSProfile(depth=200, history=HistoryPolicy.KEEP_LAST,
+                       reliability=ReliabilityPolicy.BEST_EFFORT)
+REPORT_QOS = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)
+
+
+def _track_names(text: str) -> tuple[str, ...]:
+    return tuple(t.strip() for t in text.split(',') if t.strip())
+
+
+def _cross(v: dict):
+    from .. import effects as registry
+    for name in _track_names(v.get('track', '')):
+        try:
+            registry.get(name)
+        except PneumaticServoError as exc:
+            return f'track: {exc}'
+    return None
+
+
+MONITOR_SPECS = SpecSet([
+    Spec('model_config', '', "the identified model: config YAML ('' = the paper's rig)",
+         read_only=True),
+    Spec('joint_name', 'actuator_joint', 'joint in joint_states', read_only=True),
+    Spec('floor_file', '', 'floor file: loaded if it exists (judging starts at once), else '
+         'measured on the baseline and saved there (\'\' = '
+         '$ROS_HOME/pneumatic_servo/<node>_floor.yaml, measured each start)', read_only=True),
+    Spec('baseline_s', 20.0, 'data on which the floor is measured before judging starts '
+         '(without a floor file)', 's', 1.0, 86400.0, read_only=True),
+    Spec('horizon_s', 0.2, 'k-step horizon of the judged windows', 's', 0.01, 5.0,
+         read_only=True),
+    Spec('lead_s', 0.05, 'lead-in before each prediction for the unmeasured states', 's', 0.0,
+         1.0, read_only=True),
+    Spec('replicas', 8, 'copies of each window that measure its floor', '', 3, 64,
+         read_only=True),
+    Spec('false_alarm_per_hour', 0.01, 'stated rate of false WARNs per hour of data, all '
+         'channels together, when the model describes the rig', '1/h', 1e-6, 1000.0,
+         read_only=True),
+    Spec('error_ratio', 10.0, 'a departing channel this many times its floor is an ERROR',
+         '', 1.0, 1e6, read_only=True),
+    Spec('recent_s', 10.0, 'data over which departures and regimes are reported', 's', 1.0,
+         3600.0, read_only=True),
+    Spec('max_backlog_s', 2.0, 'data waiting beyond this are skipped (decimation, reported)',
+         's', 0.2, 600.0, read_only=True),
+    Spec('track', '', "effects fitted when a channel departs, comma-separated (e.g. "
+         "piston_seal_leakage; '' = none)", read_only=True),
+    Spec('fit_window_s', 10.0, 'data per tracked fit', 's', 1.0, 600.0, read_only=True),
+    Spec('fit_period_s', 10.0, 'data time between tracked fits while a channel departs', 's',
+         0.5, 86400.0, read_only=True),
+    Spec('command_order', 'source', 'pair commands with measurements by their publishers\' '
+         'source timestamps (one host, or synchronised clocks) or by arrival',
+         choices=('source', 'received'), read_only=True),
+    Spec('publish_model', True, 'publish the model/ predictions'),
+    Spec('diagnostics_period_s', 1.0, 'period of /diagnostics', 's', 0.05, 60.0),
+    Spec('seed', 0, "seed of the copies' jitter and noise", '', 0, 2 ** 31 - 1,
+         read_only=True),
+    Spec('autostart', True, 'configure and activate at start (no lifecycle manager needed)',
+         read_only=True),
+], cross=_cross)
+
+
+class MonitorNode(LifecycleNode):
+    """Monitor node (see module doc). ``overrides`` preset parameter values (command line)."""
+
+    def __init__(self, node_name: str = 'pneumatic_servo_monitor',
+                 overrides: dict | None = None, **kwargs):
+        super().__init__(node_name, **kwargs)
+        self.p = common.declare(self, MONITOR_SPECS, overrides)
+        self.add_on_set_parameters_callback(self._on_set_parameters)
+        self.state = 'unconfigured'
+        self.worker = None
+        self.halt_reason = ''
+        self.hot_subscriptions = []  # drained in tick: the messages' source stamps matter
+        self.listen = []
+        self.pubs = {}
+        self.report = None
+        self.estimates = {}
+        self.floor_note = ''
+        self.fit_note = ''
+        self.worker_error = ''
+        self.published = 0
+        self.sent = 0
+        self._next_send = 0.0
+        self._next_diag = 0.0
+        self._last_levels = None
+        self.assembler = None
+        self.diag_pub = self.create_publisher(DiagnosticArray, common.DIAGNOSTICS,
+                                              common.DIAGNOSTICS_QOS)
+        if self.p['autostart']:
+            if self.trigger_configure() != TransitionCallbackReturn.SUCCESS:
+                raise ConfigError(self.halt_reason or 'monitor: configure failed')
+            if self.trigger_activate() != TransitionCallbackReturn.SUCCESS:
+                raise ConfigError(f'monitor: {self.halt_reason or "activation failed"}')
+
+    # -------------------------------------------------------------- parameters
+    def _on_set_parameters(self, params):
+        result = common.validate_update(MONITOR_SPECS, self.p, params)
+        if result.successful:
+            for prm in params:
+                if prm.name in self.p:
+                    self.p[prm.name] = MONITOR_SPECS[prm.name].coerce(prm.value)
+        return result
+
+    # --------------------------------------------------------------- lifecycle
+    def on_configure(self, state: LifecycleState) -> TransitionCallbackReturn:
+        try:
+            self._start_worker()
+        except Exception as exc:  # noqa: BLE001 - the reason is logged and reported
+            reason = str(exc) if isinstance(exc, PneumaticServoError) else \
+                f'{type(exc).__name__}: {exc}'
+            self.halt_reason = ' '.join(reason.split())
+            self.get_logger().error(f'configure failed: {self.halt_reason}')
+            return TransitionCallbackReturn.FAILURE
+        self._make_topics()
+        self.state = 'inactive'
+        return TransitionCallbackReturn.SUCCESS
+
+    def _start_worker(self) -> None:
+        from pathlib import Path
+
+        from ..model import ModelConfig
+        from ..monitor.floorfile import default_floor_path, load_floor
+        from ..monitor.options import MonitorOptions
+        from ..monitor.worker import MonitorWorker
+        from .paths import resolve
+        p = self.p
+        path = resolve(p['model_config']) if p['model_config'] else None
+        self.config = ModelConfig.load(path) if path else ModelConfig.paper()
+        self.options = MonitorOptions(
+            horizon_s=p['horizon_s'], lead_s=p['lead_s'], replicas=p['replicas'],
+            baseline_s=p['baseline_s'], false_alarm_per_hour=p['false_alarm_per_hour'],
+            error_ratio=p['error_ratio'], recent_s=p['recent_s'],
+            max_backlog_s=p['max_backlog_s'], track=_track_names(p['track']),
+            fit_window_s=p['fit_window_s'], fit_period_s=p['fit_period_s'], seed=p['seed'])
+        floor = None
+        if p['floor_file'] and Path(p['floor_file']).exists():
+            floor = load_floor(p['floor_file'])
+            self.floor_out = ''
+            self.floor_note = f'loaded from {p["floor_file"]}'
+        else:
+            self.floor_out = p['floor_file'] or str(default_floor_path(self.get_name()))
+            self.floor_note = f'measured on the first {p["baseline_s"]:g} s of data'
+        self.worker = MonitorWorker(self.config, self.options, floor, self.floor_out)
+        self.get_logger().info(
+            f'monitor: model {"from " + str(path) if path else "of the paper"} (effects: '
+            f'{", ".join(self.config.effects) or "none"}); floor {self.floor_note}; tracking '
+            f'{", ".join(self.options.track) or "nothing"}')
+
+    def _make_topics(self) -> None:
+        if self.pubs:
+            return
+        self.pubs = {
+            MODEL_JOINT_STATES: self.create_publisher(JointState, MODEL_JOINT_STATES, MODEL_QOS),
+            MODEL_PRESSURE_A: self.create_publisher(FluidPressure, MODEL_PRESSURE_A, MODEL_QOS),
+            MODEL_PRESSURE_B: self.create_publisher(FluidPressure, MODEL_PRESSURE_B, MODEL_QOS),
+            RESIDUALS: self.create_publisher(Float64MultiArray, RESIDUALS, REPORT_QOS),
+            EFFECTS: self.create_publisher(Float64MultiArray, EFFECTS, REPORT_QOS),
+        }
+        # every subscription has a handler of (message, info): the event loop's executor
+        # may take a message now and then, and must hand it over with its source stamp too
+        topics = [(JointState, common.JOINT_STATES, self._on_joint),
+                  (FluidPressure, common.PRESSURE_A, self._on_scalar('p_a_pa')),
+                  (FluidPressure, common.PRESSURE_B, self._on_scalar('p_b_pa')),
+                  (FluidPressure, common.PRESSURE_SUPPLY, self._on_scalar('supply_pa')),
+                  (Temperature, common.TEMPERATURE_A, self._on_scalar('t_a_k', True)),
+                  (Temperature, common.TEMPERATURE_B, self._on_scalar('t_b_k', True)),
+                  (Float64, common.COMMAND, self._on_command)]
+        self.listen = [self.create_subscription(kind, topic, cb, LISTEN_QOS, raw=True)
+                       for kind, topic, cb in topics]
+
+    def on_activate(self, state: LifecycleState) -> TransitionCallbackReturn:
+        from ..monitor.assemble import Assembler
+        self.assembler = Assembler()
+        self.state = 'active'
+        self.get_logger().info('active: judging the rig against its model')
+        return TransitionCallbackReturn.SUCCESS
+
+    def on_deactivate(self, state: LifecycleState) -> TransitionCallbackReturn:
+        self.state = 'inactive'
+        self.assembler = None
+        self._publish_diagnostics(force=True)
+        return TransitionCallbackReturn.SUCCESS
+
+    def on_cleanup(self, state: LifecycleState) -> TransitionCallbackReturn:
+        self._stop_worker()
+        for sub in self.listen:
+            self.destroy_subscription(sub)
+        for pub in self.pubs.values():
+            self.destroy_publisher(pub)
+        self.listen, self.pubs = [], {}
+        self.state = 'unconfigured'
+        return TransitionCallbackReturn.SUCCESS
+
+    def on_shutdown(self, state: LifecycleState) -> TransitionCallbackReturn:
+        self.shutdown('lifecycle shutdown')
+        return TransitionCallbackReturn.SUCCESS
+
+    def _stop_worker(self) -> None:
+        if self.worker is not None:
+            self.worker.close()
+            self.worker = None
+
+    def shutdown(self, reason: str) -> None:
+        """Stop the workers and say so (the event loop calls this on signals and errors)."""
+        if self.state == 'shut down':
+            return
+        self._stop_worker()
+        self.state = 'shut down'
+        try:
+            self._publish_diagnostics(force=True, extra=f'shut down ({reason})')
+        except Exception:  # the context may already be gone
+            pass
+
+    # ---------------------------------------------------------------- the loop
+    def next_deadline(self) -> float:
+        if self.state == 'active':
+            return monotonic() + 0.005
+        return self._next_diag
+
+    def tick(self, now: float) -> None:
+        if self.state == 'active':
+            self._take()
+            if now >= self._next_send:
+                self._next_send = now + SEND_PERIOD_S
+                self._send()
+        if self.worker is not None:
+            self._poll_worker()
+        if now >= self._next_diag:
+            self._publish_diagnostics()
+
+    def _take(self) -> None:
+        """Everything waiting on the subscriptions, into the assembler."""
+        for sub in self.listen:
+            for _ in range(TAKE_LIMIT):
+                got = private.take_with_source(sub)
+                if got is None:
+                    break
+                sub.callback(got[0], {'source_timestamp': got[1],
+                                      'received_timestamp': got[2]})
+
+    def _when(self, info) -> int:
+        key = 'received_timestamp' if self.p['command_order'] == 'received' \
+            else 'source_timestamp'
+        return int(info[key])
+
+    def _on_joint(self, data: bytes, info) -> None:
+        if self.assembler is None:
+            return
+        try:
+            js = cdr.unpack_joint_state(data, self.p['joint_name'])
+        except (ValueError, IndexError):  # a malformed message is not a sample
+            return
+        if js is not None:
+            self.assembler.joint(js[0], js[1], self._when(info))
+
+    def _on_scalar(self, signal: str, celsius: bool = False):
+        offset = common.CELSIUS_K if celsius else 0.0
+
+        def cb(data: bytes, info) -> None:
+            if self.assembler is None:
+                return
+            try:
+                stamp, value = cdr.unpack_scalar(data)
+            except (ValueError, IndexError):
+                return
+            self.assembler.scalar(signal, stamp, value + offset)
+        return cb
+
+    def _on_command(self, data: bytes, info) -> None:
+        if self.assembler is None:
+            return
+        try:
+            value = cdr.unpack_float64(data)
+        except (ValueError, IndexError):
+            return
+        self.assembler.command(value, self._when(info))
+
+    def _send(self) -> None:
+        got = self.assembler.take(time.time_ns())
+        if got is not None and self.worker is not None:
+            stamps, columns = got
+            if self.worker.send(stamps, columns):
+                self.sent += len(stamps)
+
+    def _poll_worker(self) -> None:
+        for kind, payload in self.worker.poll():
+            if kind == 'windows':
+                if self.p['publish_model'] and self.state == 'active':
+                    self._publish_model(payload)
+            elif kind == 'report':
+                self.report = payload
+                self._publish_residuals(payload)
+                levels = tuple(c['level'] for c in payload['channels'].values())
+                self._publish_diagnostics(force=levels != self._last_levels)
+                self._last_levels = levels
+            elif kind == 'estimates':
+                self.estimates = {k: v for k, v in payload.items() if not k.startswith('_')}
+                self.fit_note = (f'last fit took {payload["_seconds"]:.1f} s'
+                                 if '_seconds' in payload else 'compiled, waiting')
+                self._publish_effects()
+                self._publish_diagnostics(force=True)
+            elif kind == 'floor':
+                if payload.get('path'):
+                    self.floor_note = (f'measured on the baseline, saved to {payload["path"]}')
+                    self.get_logger().info(f'floor {self.floor_note}')
+                else:
+                    self.floor_note = f'measured on the baseline; not saved: {payload["error"]}'
+                    self.get_logger().warn(self.floor_note)
+            elif kind == 'fit_error':
+                self.fit_note = f'a tracked fit failed: {payload}'
+                self.get_logger().warn(self.fit_note)
+            elif kind == 'error':
+                self.worker_error = payload
+                self.get_logger().error(payload)
+                self._publish_diagnostics(force=True)
+
+    # -------------------------------------------------------------- publishing
+    def _publish_model(self, windows) -> None:
+        frame = b''
+        name = self.p['joint_name'].encode()
+        js, pa, pb = (self.pubs[t] for t in (MODEL_JOINT_STATES, MODEL_PRESSURE_A,
+                                             MODEL_PRESSURE_B))
+        for stamps, pred in windows:
+            # the first sample of a window is its measured start: not a prediction
+            for k in range(1, len(stamps)):
+                sec, nsec = divmod(int(stamps[k]), 1_000_000_000)
+                js.publish(cdr.pack_joint_state(sec, nsec, frame, name, float(pred['angle'][k])))
+                pa.publish(cdr.pack_scalar(sec, nsec, frame, float(pred['p_a'][k])))
+                pb.publish(cdr.pack_scalar(sec, nsec, frame, float(pred['p_b'][k])))
+                self.published += 1
+
+    def _publish_residuals(self, report: dict) -> None:
+        msg = Float64MultiArray()
+        chans = list(report['channels'])
+        t = report['t_ns'] * 1e-9
+        msg.layout.dim = [
+            MultiArrayDimension(label='channel:' + ','.join(chans), size=len(chans),
+                                stride=len(chans) * len(RESIDUAL_FIELDS)),
+            MultiArrayDimension(label='field:' + ','.join(RESIDUAL_FIELDS),
+                                size=len(RESIDUAL_FIELDS), stride=len(RESIDUAL_FIELDS))]
+        data = []
+        for ch in chans:
+            c = report['channels'][ch]
+            row = {**c, 'data_time_s': t, 'level': LEVEL_NUMBER[c['level']]}
+            data += [float(row[f]) if row.get(f) is not None else math.nan
+                     for f in RESIDUAL_FIELDS]
+        msg.data = data
+        self.pubs[RESIDUALS].publish(msg)
+
+    def _publish_effects(self) -> None:
+        if not self.estimates:
+            return
+        keys = list(self.estimates)
+        msg = Float64MultiArray()
+        msg.layout.dim = [
+            MultiArrayDimension(label='parameter:' + ','.join(keys), size=len(keys),
+                                stride=len(keys) * len(EFFECT_FIELDS)),
+            MultiArrayDimension(label='field:' + ','.join(EFFECT_FIELDS),
+                                size=len(EFFECT_FIELDS), stride=len(EFFECT_FIELDS))]
+        data = []
+        for k in keys:
+            s = self.estimates[k]
+            data += [float(s['t_s']), float(s['value']), float(s['stderr']),
+                     1.0 if s['alert'] else 0.0]
+        msg.data = data
+        self.pubs[EFFECTS].publish(msg)
+
+    def _status(self, name: str, level: str, message: str, values: dict) -> DiagnosticStatus:
+        st = DiagnosticStatus(level=common.LEVELS[level], name=f'{self.get_name()}: {name}',
+                              message=message, hardware_id='monitor')
+        st.values = [KeyValue(key=str(k), value=common._fmt(v)) for k, v in values.items()]
+        return st
+
+    def _publish_diagnostics(self, force: bool = False, extra: str = '') -> None:
+        now = monotonic()
+        if not force and now < self._next_diag:
+            return
+        self._next_diag = now + self.p['diagnostics_period_s']
+        arr = DiagnosticArray()
+        rep = self.report
+        stamp = rep['t_ns'] if rep and rep.get('t_ns') else self.get_clock().now().nanoseconds
+        common.set_stamp(arr.header.stamp, stamp)
+        arr.status = [self._node_status(extra)]
+        if rep is not None:
+            for ch, c in rep['channels'].items():
+                values = {k: c[k] for k in ('ratio', 'rms', 'floor_rms', 'unit', 'cusum',
+                                            'threshold', 'p_value', 'window_p_value', 'z',
+                                            'windows', 'alarms', 'regime')}
+                values['since_s'] = c['since_ns'] * 1e-9 if c['since_ns'] else math.nan
+                values['data_time_s'] = rep['t_ns'] * 1e-9
+                arr.status.append(self._status(f'monitor {ch}', c['level'], c['message'],
+                                               values))
+        for key, s in self.estimates.items():
+            alert = s.get('alert')
+            level = 'warn' if alert else 'ok'
+            if alert:
+                message = alert['text']
+            elif s['estimates']:
+                message = (f'{s["value"]:.3g} +/- {s["stderr"]:.2g} {s["unit"]} '
+                           f'({s["estimates"]} estimates, no change)')
+            else:
+                message = 'no estimate yet (fitted at the end of the baseline and while a ' \
+                          'channel departs)'
+            values = {'value': s['value'], 'stderr': s['stderr'], 'unit': s['unit'],
+                      'estimates': s['estimates'], 'data_time_s': s['t_s'],
+                      'alert': alert['text'] if alert else '',
+                      'alert_p_value': alert['p_value'] if alert else math.nan}
+            arr.status.append(self._status(f'monitor {key}', level, message, values))
+        self.diag_pub.publish(arr)
+
+    def _node_status(self, extra: str = '') -> DiagnosticStatus:
+        rep = self.report or {}
+        level, words = 'ok', []
+        counts = rep.get('counts', {})
+        dropped = self.worker.dropped if self.worker is not None else 0
+        if self.worker_error or self.halt_reason:
+            level, words = 'error', [self.worker_error or self.halt_reason]
+        elif self.worker is None and self.state not in ('unconfigured', 'shut down'):
+            level, words = 'error', ['no worker']
+        elif self.worker is not None and not self.worker.alive:
+            level, words = 'error', ['the judging process died']
+        else:
+            words.append(f'{self.state}: {rep.get("state", "starting")}')
+            if rep.get('state') == 'baseline':
+                words.append(f'{rep.get("baseline_left_s", 0.0):.0f} s of baseline to go')
+            departing = [ch for ch, c in rep.get('channels', {}).items() if c['level'] != 'ok']
+            if departing:
+                words.append('departs in ' + ', '.join(departing))
+            if rep.get('decimating'):
+                level = 'warn'
+                words.append(f'DECIMATING: judged {counts.get("judged", 0)} of the windows, '
+                             f'skipped {counts.get("skipped", 0)} (the monitor cannot keep up '
+                             'with the data; the false-alarm rate only falls)')
+            if dropped:
+                level = 'warn'
+                words.append(f'dropped {dropped} samples (the judge is behind)')
+            if rep.get('last_error'):
+                level = 'warn'
+                words.append(f'a window could not be simulated: {rep["last_error"]}')
+            if self.assembler is not None and self.assembler.received['commands'] == 0 \
+                    and self.assembler.received['joint_states'] > 0:
+                level = 'warn'
+                words.append('no valve/command: the model cannot be run (a replay needs '
+                             'replay_command:=true)')
+        if extra:
+            words.insert(0, extra)
+        sensors = rep.get('sensors') or {}
+        values = {'state': self.state, 'judge': rep.get('state', ''),
+                  'windows_judged': counts.get('judged', 0),
+                  'windows_skipped': counts.get('skipped', 0),
+                  'windows_incomplete': counts.get('incomplete', 0),
+                  'windows_failed': counts.get('failed', 0),
+                  'samples_lost': counts.get('lost', 0), 'samples_dropped': dropped,
+                  'samples_sent': self.sent, 'predictions_published': self.published,
+                  'judged_fraction': rep.get('judged_fraction', math.nan),
+                  'false_alarm_per_hour': self.p['false_alarm_per_hour'],
+                  'threshold': rep.get('threshold', math.nan),
+                  'windows_per_hour': rep.get('windows_per_hour', math.nan),
+                  'period_s': rep.get('period_s') or math.nan,
+                  'floor': self.floor_note, 'floor_source': rep.get('floor_source', ''),
+                  'tracked': ', '.join(self.options.track) if hasattr(self, 'options') else '',
+                  'fits': self.fit_note,
+                  'model_effects': ', '.join(self.config.effects) if hasattr(self, 'config')
+                  else ''}
+        for ch, v in (rep.get('floor_rms') or {}).items():
+            values[f'floor_rms_{ch}'] = v
+        for ch, v in (sensors.get('noise') or {}).items():
+            values[f'noise_{ch}'] = v
+        return self._status('monitor', level, '; '.join(words), values)
