@@ -349,3 +349,61 @@ def test_options_and_look_levels_are_checked():
         MonitorOptions(horizon_s=0.0)
     # the levels of the looks at a growing series spend at most the fleet's 1 %
     assert sum(look_level(j) for j in range(1, 10000)) < 0.01
+
+
+def test_compare_and_fleet_read_a_bag_that_holds_the_monitors_topics(tmp_path, paper):
+    """The bundled demo again, with what a monitor publishes recorded beside it (its
+    predictions under model/, stamped like the measurements, its statistics, /diagnostics):
+    read, compared and checked by fleet exactly as the demo itself."""
+    from rosbags.highlevel import AnyReader
+
+    from pneumatic_servo.analysis.compare import compare
+    from pneumatic_servo.fleet.discover import Recording
+    from pneumatic_servo.fleet.task import TaskOptions, check_recording
+    from pneumatic_servo.io import read_experiment
+    from pneumatic_servo.io.bag.writer import write_raw_bag
+    from pneumatic_servo.io.codecs import typestore
+    store = typestore()
+    JS = store.types['sensor_msgs/msg/JointState']
+    FP = store.types['sensor_msgs/msg/FluidPressure']
+    MA = store.types['std_msgs/msg/Float64MultiArray']
+    Layout = store.types['std_msgs/msg/MultiArrayLayout']
+    Dim = store.types['std_msgs/msg/MultiArrayDimension']
+    DA = store.types['diagnostic_msgs/msg/DiagnosticArray']
+    DS = store.types['diagnostic_msgs/msg/DiagnosticStatus']
+    src = 'bags/hidden_effect_demo'
+    messages = []
+    from pneumatic_servo.io.bag.metadata import custom_data
+    custom = custom_data(__import__('pathlib').Path(src))
+    with AnyReader([__import__('pathlib').Path(src)], default_typestore=store) as reader:
+        for conn, rec, raw in reader.messages():
+            msg = reader.deserialize(raw, conn.msgtype)
+            messages.append((conn.topic, conn.msgtype, rec, msg))
+            if conn.topic == '/joint_states':  # the model's prediction, a little off
+                messages.append(('/model/joint_states', conn.msgtype, rec + 1, JS(
+                    header=msg.header, name=list(msg.name), position=msg.position + 0.01,
+                    velocity=np.array([]), effort=np.array([]))))
+            elif conn.topic == '/chamber_a/pressure':
+                messages.append(('/model/chamber_a/pressure', conn.msgtype, rec + 1, FP(
+                    header=msg.header, fluid_pressure=msg.fluid_pressure + 1e3, variance=0.0)))
+            if conn.topic == '/joint_states' and msg.header.stamp.nanosec % 10 ** 9 == 0:
+                layout = Layout(dim=[Dim(label='channel:angle,p_a,p_b', size=3, stride=33),
+                                     Dim(label='field:...', size=11, stride=11)],
+                                data_offset=0)
+                messages.append(('/monitor/residuals', 'std_msgs/msg/Float64MultiArray', rec + 2,
+                                 MA(layout=layout, data=np.zeros(33))))
+                messages.append(('/diagnostics', 'diagnostic_msgs/msg/DiagnosticArray', rec + 2,
+                                 DA(header=msg.header, status=[DS(
+                                     level=1, name='m: monitor p_a', message='departs',
+                                     hardware_id='monitor', values=[])])))
+    messages.sort(key=lambda m: m[2])
+    bag = write_raw_bag(tmp_path / 'with_monitor', messages, 'mcap', custom)
+    plain, mixed = read_experiment(src), read_experiment(bag)
+    assert set(plain.signals) == set(mixed.signals)
+    for sig in plain.signals:
+        assert np.array_equal(plain[sig], mixed[sig]), sig
+    a = compare(plain, paper, mode='k_step')['channels']
+    b = compare(mixed, paper, mode='k_step')['channels']
+    assert a == b
+    row = check_recording(Recording(str(bag), 'cell'), paper.to_dict(), TaskOptions(), 'k')
+    assert row.status == 'ok', row.error

@@ -25,6 +25,11 @@ def add_parser(sub) -> argparse.ArgumentParser:
                    help='storage plugin (default: sqlite3)')
     p.add_argument('--topics', metavar='T1,T2', type=comma_list,
                    help='comma-separated subset of the interface topics (default: all)')
+    p.add_argument('--monitor', action='store_true',
+                   help="also the monitor's topics: model/joint_states and the model/ "
+                        'pressures (its predictions), monitor/residuals, monitor/effects and '
+                        '/diagnostics (compare, verify and fleet read such a bag as if they '
+                        'were not there)')
     p.add_argument('--use-sim-time', action='store_true',
                    help='time stamps and duration from /clock (lockstep simulation)')
     p.add_argument('--json', metavar='PATH', type=output_file,
@@ -40,8 +45,10 @@ def run(args) -> int:
         raise ConfigError(f'--duration {args.duration:g}: give a positive number of seconds')
     from ..ros import require_rclpy
     require_rclpy()
-    from ..ros.recorder import DEFAULT_TOPICS, check_topics, record
-    topics = args.topics or DEFAULT_TOPICS
+    from ..ros.recorder import DEFAULT_TOPICS, MONITOR_TOPICS, check_topics, record
+    topics = tuple(args.topics or DEFAULT_TOPICS)
+    if args.monitor:
+        topics = tuple(dict.fromkeys(topics + MONITOR_TOPICS))
     check_topics(topics)
     ros_args = ['pneumatic-servo', '--ros-args', *args.ros_args] if args.ros_args else None
     result = record(args.out, args.duration, args.storage, topics, args.use_sim_time, ros_args,

@@ -22,7 +22,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..experiment import Experiment
-from ..fleet.alerts import FALSE_ALARM_RATE, describe, judge_series
+from ..fleet.alerts import FALSE_ALARM_RATE, judge_series
 from ..fleet.task import SPREAD
 from ..model.config import ModelConfig
 from .judge import CHANNELS
@@ -91,11 +91,20 @@ class Series:
             return
         first = change.index if change.kind == 'step' else int(
             change.points[np.searchsorted(change.points, change.index) - 1])
-        since = f'data time {self.t_s[first]:.1f} s'
         self.alert = {'kind': change.kind, 'since_s': self.t_s[first], 'from': change.start,
                       'to': change.end, 'p_value': change.p_value, 'level': level,
-                      'text': describe('rig', self.label, self.unit, change.kind,
-                                       change.start, change.end, since)}
+                      'text': self.describe(change.kind, change.start, change.end,
+                                            self.t_s[first])}
+
+    def describe(self, kind: str, start: float, end: float, since_s: float) -> str:
+        """The alert as a maintenance note: 'effective orifice area of the seal leak rose
+        from about 0 to 3e-08 m^2 in one step, at data time 15.9 s'."""
+        verb = 'rose' if end > start else 'fell'
+        before = '0' if abs(start) < 0.05 * abs(end) else f'{start:.2g}'
+        what = f'{self.label} {verb} from about {before} to {end:.2g} {self.unit}'
+        if kind == 'step':
+            return f'{what} in one step, at data time {since_s:.1f} s'
+        return f'{what}, since data time {since_s:.1f} s'
 
     def to_json(self) -> dict:
         last = len(self.values) - 1

@@ -44,9 +44,22 @@ CLOCK = '/clock'
 #: measurement topics in publication order (joint_states last: it triggers the controller)
 MEASUREMENT_TOPICS = (PRESSURE_A, PRESSURE_B, PRESSURE_SUPPLY, TEMPERATURE_A, TEMPERATURE_B,
                       JOINT_STATES)
+#: what the monitor publishes (an extension of the interface; relative names): the model's
+#: predictions, stamped like the measurements they predict, and its statistics
+MODEL_JOINT_STATES = 'model/joint_states'
+MODEL_PRESSURE_A = 'model/chamber_a/pressure'
+MODEL_PRESSURE_B = 'model/chamber_b/pressure'
+MONITOR_RESIDUALS = 'monitor/residuals'
+MONITOR_EFFECTS = 'monitor/effects'
+MONITOR_TOPIC_TYPES = {MODEL_JOINT_STATES: 'sensor_msgs/msg/JointState',
+                       MODEL_PRESSURE_A: 'sensor_msgs/msg/FluidPressure',
+                       MODEL_PRESSURE_B: 'sensor_msgs/msg/FluidPressure',
+                       MONITOR_RESIDUALS: 'std_msgs/msg/Float64MultiArray',
+                       MONITOR_EFFECTS: 'std_msgs/msg/Float64MultiArray',
+                       DIAGNOSTICS: 'diagnostic_msgs/msg/DiagnosticArray'}
 #: topic -> message type name, for the recorder and the graph checks
 TOPIC_TYPES = {**{name: topic.msgtype for name, topic in TOPICS.items()},
-               TRAJECTORY: 'trajectory_msgs/msg/JointTrajectory'}
+               TRAJECTORY: 'trajectory_msgs/msg/JointTrajectory', **MONITOR_TOPIC_TYPES}
 
 # -------------------------------------------------------------------------------- QoS
 #: measurements: best effort, keep last 5 (a late sample is worthless)

@@ -38,18 +38,12 @@ from ..errors import ConfigError, PneumaticServoError
 from . import cdr, common, private
 
 monotonic = time.monotonic
-#: the monitor's topics (relative: a namespace moves them with the rig's)
-MODEL_JOINT_STATES = 'model/joint_states'
-MODEL_PRESSURE_A = 'model/chamber_a/pressure'
-MODEL_PRESSURE_B = 'model/chamber_b/pressure'
-RESIDUALS = 'monitor/residuals'
-EFFECTS = 'monitor/effects'
-#: topic -> message type, for the recorder
-MONITOR_TOPIC_TYPES = {MODEL_JOINT_STATES: 'sensor_msgs/msg/JointState',
-                       MODEL_PRESSURE_A: 'sensor_msgs/msg/FluidPressure',
-                       MODEL_PRESSURE_B: 'sensor_msgs/msg/FluidPressure',
-                       RESIDUALS: 'std_msgs/msg/Float64MultiArray',
-                       EFFECTS: 'std_msgs/msg/Float64MultiArray'}
+#: the monitor's topics (relative: a namespace moves them with the rig's; ros/common.py)
+MODEL_JOINT_STATES = common.MODEL_JOINT_STATES
+MODEL_PRESSURE_A = common.MODEL_PRESSURE_A
+MODEL_PRESSURE_B = common.MODEL_PRESSURE_B
+RESIDUALS = common.MONITOR_RESIDUALS
+EFFECTS = common.MONITOR_EFFECTS
 #: columns of ``monitor/residuals``, one row per channel (angle, p_a, p_b); SI units
 RESIDUAL_FIELDS = ('data_time_s', 'ratio', 'rms', 'floor_rms', 'cusum', 'threshold',
                    'p_value', 'window_p_value', 'z', 'level', 'windows')
@@ -498,6 +492,11 @@ class MonitorNode(LifecycleNode):
             if dropped:
                 level = 'warn'
                 words.append(f'dropped {dropped} samples (the judge is behind)')
+            lost, samples = counts.get('lost', 0), counts.get('samples', 0)
+            if lost > 0.01 * (lost + samples):
+                level = 'warn'
+                words.append(f'{lost} of {lost + samples} samples missing (lost on the way, '
+                             'or the plant stood still): windows over them are not judged')
             if rep.get('last_error'):
                 level = 'warn'
                 words.append(f'a window could not be simulated: {rep["last_error"]}')

@@ -2,8 +2,10 @@
 
 Messages are taken serialized (CDR, exactly as on the wire) and written as
 they are, with the record time of the node's clock (sim time with
-``use_sim_time``). The bag is a standard rosbag2 directory: ``metadata.yaml``
-version 9 with each topic's type, type-description hash (RIHS01, which must
+``use_sim_time``; what comes before the first ``/clock`` has no time and is not recorded).
+A stamped message identical to the one before it on its topic is a lockstep plant's resend
+of an unanswered sample, and is recorded once. The bag is a standard rosbag2 directory:
+``metadata.yaml`` version 9 with each topic's type, type-description hash (RIHS01, which must
 match what ROS 2 Jazzy computes) and the publishers' offered QoS, so
 ``ros2 bag info/play`` on a ROS install read it as they read their own.
 ``custom_data`` carries ``pneumatic_servo.circuit: servo``.
@@ -25,9 +27,13 @@ from . import common, private
 DEFAULT_TOPICS = (common.JOINT_STATES, common.PRESSURE_A, common.PRESSURE_B,
                   common.PRESSURE_SUPPLY, common.TEMPERATURE_A, common.TEMPERATURE_B,
                   common.COMMAND, common.SETPOINT, common.TRAJECTORY)
+#: what ``record --monitor`` adds: the monitor's predictions and statistics, and
+#: /diagnostics (its verdicts over time)
+MONITOR_TOPICS = tuple(common.MONITOR_TOPIC_TYPES)
 STORAGES = ('sqlite3', 'mcap')
-#: reliable topics (commands, targets); the rest are sensor data (best effort)
-RELIABLE = (common.COMMAND, common.SETPOINT, common.TRAJECTORY)
+#: reliable topics (commands, targets, reports); the rest are sensor data (best effort)
+RELIABLE = (common.COMMAND, common.SETPOINT, common.TRAJECTORY, common.MONITOR_RESIDUALS,
+            common.MONITOR_EFFECTS, common.DIAGNOSTICS)
 
 
 def check_topics(topics) -> None:
@@ -94,16 +100,24 @@ class RecorderNode(Node):
                                           else ReliabilityPolicy.BEST_EFFORT),
                              durability=DurabilityPolicy.VOLATILE)
             cls = _msg_class(msgtype)
-            sub = self.create_subscription(cls, topic, self._writer_cb(conn, full), qos,
-                                           raw=True)
+            stamped = 'header' in cls.get_fields_and_field_types()
+            sub = self.create_subscription(cls, topic, self._writer_cb(conn, full, stamped),
+                                           qos, raw=True)
             self.hot_subscriptions.append(sub)
             self.counts[full] = 0
 
-    def _writer_cb(self, conn, topic):
+    def _writer_cb(self, conn, topic, stamped: bool):
+        last = [None]
+
         def cb(data: bytes):
             if self.done:
                 return
             now = self.get_clock().now().nanoseconds
+            if now == 0:
+                return  # sim time before the first /clock: no time to record it at
+            if stamped and data == last[0]:
+                return  # a lockstep plant resent an unanswered sample: the same message
+            last[0] = data
             if self._first is None:
                 self._first = now
             elif now - self._first > self.duration_s * 1e9:
