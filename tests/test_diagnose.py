@@ -252,11 +252,11 @@ def test_free_base_parameter_is_refitted(diagnosed):
 
 # ------------------------------------------------------------- reports and workflow
 def test_compare_report_shows_where_it_fails(tmp_path):
-    from pneumatic_servo.analysis.compare import compare, predictions
+    from pneumatic_servo.analysis.compare import compare, predict_views
     from pneumatic_servo.analysis.report import write_compare_report
     exp = read_experiment(DATA / 'asymmetric_friction' / 'closed_loop')
     cfg = ModelConfig.paper()
-    preds = predictions(exp, cfg)
+    preds = predict_views(exp, cfg)
     result = compare(exp, cfg, preds=preds)
     page = write_compare_report(tmp_path / 'cmp', exp, preds, result, cfg)
     html = page.read_text()
