@@ -267,16 +267,7 @@ def steady_flow(model=None, voltage_v: float = 5.0, supply_pa: float | None = No
                 config: ModelConfig | None = None) -> tuple[float, float, float]:
     """Steady flow-rate test of Fig. 10: port 4 vented through the flow meter.
 
-    Parameters
-    ----------
-    model : Model, ModelConfig or None
-        The model (None: the paper's).
-    voltage_v : float [V]
-        Valve command.
-    supply_pa : float [Pa, absolute]
-        Supply pressure (default: the config's).
-    config : ModelConfig, optional
-        Parameter values for the same composition.
+    Parameters are those of :func:`steady_closed_port`.
 
     Returns
     -------

@@ -164,20 +164,12 @@ def charge_discharge(model=None, supply_pa: float | None = None, start_v: float 
 
     Parameters
     ----------
-    model : Model, ModelConfig or None
-        The model (None: the paper's).
-    supply_pa : float [Pa, absolute]
-        Supply pressure; default 0.6 MPa gauge as in the paper.
     start_v, step_v : float [V]
         Valve command before and after the step (paper: 5 V -> 5.5 V).
     step_time_s : float [s]
         Time of the step.
-    duration_s, sample_s : float [s]
-        Length of the record and sample period.
-    method : str
-        'adaptive' (offline) or 'fixed' (real-time RK4).
-    config : ModelConfig, optional
-        Parameter values for the same composition.
+    model, supply_pa, duration_s, sample_s, method, config
+        As :func:`sine_response` (supply default 0.6 MPa gauge, as in the paper).
 
     Returns
     -------
