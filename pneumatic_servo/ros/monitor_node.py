@@ -62,6 +62,11 @@ MODEL_QOS = QoSProfile(depth=200, history=HistoryPolicy.KEEP_LAST,
 REPORT_QOS = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)
 
 
+def _time(t_s: float) -> str:
+    """A time [s] for a diagnostic value, to the microsecond (or 'nan')."""
+    return f'{t_s:.6f}' if math.isfinite(t_s) else 'nan'
+
+
 def _track_names(text: str) -> tuple[str, ...]:
     return tuple(t.strip() for t in text.split(',') if t.strip())
 
@@ -444,8 +449,9 @@ class MonitorNode(LifecycleNode):
                 values = {k: c[k] for k in ('ratio', 'rms', 'floor_rms', 'unit', 'cusum',
                                             'threshold', 'p_value', 'window_p_value', 'z',
                                             'windows', 'alarms', 'regime')}
-                values['since_s'] = c['since_ns'] * 1e-9 if c['since_ns'] else math.nan
-                values['data_time_s'] = rep['t_ns'] * 1e-9
+                # times in full (a stamp is ~1.8e9 s: six digits would say nothing)
+                values['since_s'] = _time(c['since_ns'] * 1e-9 if c['since_ns'] else math.nan)
+                values['data_time_s'] = _time(rep['t_ns'] * 1e-9)
                 arr.status.append(self._status(f'monitor {ch}', c['level'], c['message'],
                                                values))
         for key, s in self.estimates.items():
@@ -460,7 +466,7 @@ class MonitorNode(LifecycleNode):
                 message = 'no estimate yet (fitted at the end of the baseline and while a ' \
                           'channel departs)'
             values = {'value': s['value'], 'stderr': s['stderr'], 'unit': s['unit'],
-                      'estimates': s['estimates'], 'data_time_s': s['t_s'],
+                      'estimates': s['estimates'], 'data_time_s': _time(s['t_s']),
                       'alert': alert['text'] if alert else '',
                       'alert_p_value': alert['p_value'] if alert else math.nan}
             arr.status.append(self._status(f'monitor {key}', level, message, values))

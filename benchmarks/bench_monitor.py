@@ -1,0 +1,214 @@
+"""The monitor beside a free-running 1 kHz sim plant (this is not a test: it prints what it
+measures).
+
+* the plant's achieved rate and period jitter (its own /diagnostics) with the PID controller
+  in another process, first without the monitor, then with it: the monitor must not slow
+  the loop down;
+* the wall time from the monitor's start to its first verdicts (default options: the
+  paper's model, a 20 s baseline, no floor file), against the issue's 30 s;
+* the monitor's CPU share (its node process, and the judge and fit processes it starts, from
+  /proc), and whether it keeps up with 1 kHz: windows judged, skipped (decimation, which it
+  reports), incomplete, and samples missing;
+* the WARNs it raised on the healthy free-running plant.
+
+The machine's load average is printed too: these are wall-clock and CPU figures on shared
+cores, with other work running.
+
+Usage::
+
+    python benchmarks/bench_monitor.py [--seconds S] [--json PATH]
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+sys.path.insert(0, str(ROOT / 'tests' / 'ros'))
+
+MONITOR = 'pneumatic_servo_monitor'
+TICK = os.sysconf('SC_CLK_TCK')
+
+
+def cpu_seconds(pid: int) -> float:
+    """User + system CPU time [s] of process ``pid`` (0 if it is gone)."""
+    try:
+        fields = Path(f'/proc/{pid}/stat').read_text().rsplit(')', 1)[1].split()
+    except OSError:
+        return 0.0
+    return (int(fields[11]) + int(fields[12])) / TICK
+
+
+def children(pid: int) -> list[int]:
+    out = []
+    for stat in Path('/proc').glob('[0-9]*/stat'):
+        try:
+            fields = stat.read_text().rsplit(')', 1)[1].split()
+        except OSError:
+            continue
+        if int(fields[1]) == pid:
+            out.append(int(stat.parent.name))
+    return out
+
+
+def node_status(probe):
+    """The monitor's own latest status (not a channel's)."""
+    for _, st in reversed(probe.diagnostics):
+        if st.name == f'{MONITOR}: monitor':
+            return st
+    return None
+
+
+def plant_timing(probe, since: float) -> dict:
+    """The plant's latest rate and jitter (its /diagnostics) received after ``since``."""
+    st = probe.diag(': plant', since)
+    if st is None:
+        return {}
+    v = probe.diag_values(st)
+    return {k: float(v[k]) for k in ('achieved_rate_hz', 'jitter_p50_ms', 'jitter_p99_ms',
+                                     'overruns') if k in v}
+
+
+def figure(png: Path, leak_after_s: float = 25.0, record_s: float = 45.0) -> dict:
+    """A monitored free-running run with a seal leak switched on, recorded with the
+    monitor's topics and drawn (pneumatic_servo.monitor.figure): returns what happened."""
+    import numpy as np
+    from rostest_helpers import Probe, Procs
+
+    from pneumatic_servo.control.reference import TrajectoryPoint
+    from pneumatic_servo.monitor.figure import plot_run
+    from pneumatic_servo.ros import common
+    domain = 100 + (os.getpid() + 1) % 100
+    tmp = Path(tempfile.mkdtemp(prefix='monitor_figure_'))
+    cfg = tmp / 'plant.yaml'
+    cfg.write_text('effects:\n  piston_seal_leakage: {seal_leak_area_m2: 0.0}\n')
+    procs, probe = Procs(domain, tmp), Probe(domain, 'figure')
+    try:
+        procs.start('monitor', '--baseline', '10', '--track', 'piston_seal_leakage', '--floor',
+                    tmp / 'floor.yaml', '--set', 'fit_window_s=5', '--set', 'fit_period_s=5',
+                    name='monitor')
+        procs.start('controller', name='controller')
+        procs.start('plant', '--config', cfg, '--set', 'initial_angle_rad=1.0', name='plant')
+        probe.spin_until(lambda: probe.joint, 60.0, 'the plant')
+        t0 = probe.joint[-1][0]
+        rng = np.random.default_rng(0)
+        probe.send(probe.trajectory_pub, common.joint_trajectory(
+            [TrajectoryPoint(t0 + 0.5 + k, float(rng.uniform(0.6, 2.6)), 0.0, 0.0)
+             for k in range(600)], 'actuator_joint'))
+        bag = tmp / 'run'
+        rec = procs.start('record', bag, '--duration', record_s, '--monitor', name='record')
+        start = time.monotonic()
+        probe.spin(leak_after_s)
+        leak_stamp = probe.joint[-1][0]
+        probe.set_parameters('pneumatic_servo_plant',
+                             sim_values='piston_seal_leakage.seal_leak_area_m2=3e-8')
+        rec.wait(record_s + 60)
+        from pneumatic_servo.monitor.figure import read_run
+        first = read_run(bag)['t0']
+        plot_run(bag, png, change_s=leak_stamp - first,
+                 title='The monitor beside a free-running simulated rig: a piston seal leak '
+                       '(3e-8 m^2) switched on in the running plant')
+        return {'bag': str(bag), 'leak_at_s': leak_stamp - first, 'png': str(png),
+                'recorded_after_s': time.monotonic() - start}
+    finally:
+        procs.cleanup()
+        probe.close()
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument('--seconds', type=float, default=30.0,
+                    help='seconds of each measurement (default 30)')
+    ap.add_argument('--json', metavar='PATH', help='write the figures as JSON')
+    ap.add_argument('--figure', metavar='PNG', help='only draw the figure of a recorded '
+                    'monitored run with a seal leak switched on (docs/figures/monitor.png)')
+    args = ap.parse_args(argv)
+    if args.figure:
+        print(figure(Path(args.figure)))
+        return 0
+    from rostest_helpers import Probe, Procs, level
+
+    from pneumatic_servo.control.reference import TrajectoryPoint
+    from pneumatic_servo.ros import common
+    domain = 100 + os.getpid() % 100
+    tmp = Path(tempfile.mkdtemp(prefix='bench_monitor_'))
+    procs, probe = Procs(domain, tmp), Probe(domain, 'bench_monitor')
+    out = {'load_average': os.getloadavg(), 'seconds': args.seconds}
+    try:
+        procs.start('controller', name='controller')
+        procs.start('plant', '--set', 'initial_angle_rad=1.0', name='plant')
+        probe.spin_until(lambda: probe.joint, 60.0, 'the plant')
+        t0 = probe.joint[-1][0]
+        import numpy as np
+        rng = np.random.default_rng(0)
+        probe.send(probe.trajectory_pub, common.joint_trajectory(
+            [TrajectoryPoint(t0 + 0.5 + k, float(rng.uniform(0.6, 2.6)), 0.0, 0.0)
+             for k in range(3600)], 'actuator_joint'))
+        start = time.monotonic()
+        probe.spin(args.seconds)
+        out['without_monitor'] = plant_timing(probe, start)
+        print(f'plant alone:        {out["without_monitor"]}', flush=True)
+
+        started = time.monotonic()
+        mon = procs.start('monitor', '--floor', tmp / 'floor.yaml', name='monitor')
+
+        def first_verdict():
+            for t, st in probe.diagnostics:
+                if st.name.startswith(f'{MONITOR}: monitor ') and t >= started:
+                    v = probe.diag_values(st)
+                    if v.get('windows', '0') not in ('0', ''):
+                        return t
+            return None
+        probe.spin_until(lambda: first_verdict() is not None, 120.0, 'the first verdicts')
+        out['first_verdict_s'] = first_verdict() - started
+        print(f'first verdicts {out["first_verdict_s"]:.1f} s after the monitor started '
+              '(target 30 s)', flush=True)
+        probe.spin(3.0)
+        pids = [mon.pid] + children(mon.pid)
+        cpu0 = {p: cpu_seconds(p) for p in pids}
+        start = time.monotonic()
+        node0 = probe.diag_values(node_status(probe))
+        probe.spin(args.seconds)
+        wall = time.monotonic() - start
+        cpu = {p: (cpu_seconds(p) - cpu0[p]) / wall for p in pids}
+        node1 = probe.diag_values(node_status(probe))
+        out['with_monitor'] = plant_timing(probe, start)
+        out['cpu_share'] = {'node': cpu[mon.pid],
+                            'workers': sum(v for p, v in cpu.items() if p != mon.pid),
+                            'total': sum(cpu.values())}
+        delta = {k: int(node1[k]) - int(node0[k]) for k in (
+            'windows_judged', 'windows_skipped', 'windows_incomplete', 'samples_lost',
+            'samples_dropped', 'samples_sent')}
+        data_windows = args.seconds / 0.2
+        out['keeps_up'] = {**delta, 'windows_of_data': data_windows,
+                           'judged_share': delta['windows_judged'] / data_windows,
+                           'node_status': node_status(probe).message}
+        warns = sorted({st.name for t, st in probe.diagnostics if t >= started
+                        and st.name.startswith(f'{MONITOR}: monitor ') and level(st) >= 1})
+        out['warn_statuses'] = warns
+        print(f'plant with monitor: {out["with_monitor"]}')
+        print(f'monitor CPU share of one core: node {cpu[mon.pid]:.1%}, judge and fits '
+              f'{out["cpu_share"]["workers"]:.1%}, total {out["cpu_share"]["total"]:.1%}')
+        print(f'keeps up with 1 kHz: judged {delta["windows_judged"]} of {data_windows:.0f} '
+              f'windows of data, skipped {delta["windows_skipped"]} (decimation), incomplete '
+              f'{delta["windows_incomplete"]}, samples missing {delta["samples_lost"]}, '
+              f'dropped {delta["samples_dropped"]}')
+        print(f'monitor says: {out["keeps_up"]["node_status"]}')
+        print(f'WARN on the healthy plant: {warns or "none"}')
+        print(f'load average {out["load_average"]}')
+    finally:
+        procs.cleanup()
+        probe.close()
+    if args.json:
+        Path(args.json).write_text(json.dumps(out, indent=2, default=str))
+    return 0
+
+
+if __name__ == '__main__':
+    raise SystemExit(main())
