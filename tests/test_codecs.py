@@ -9,7 +9,7 @@ import pytest
 
 from pneumatic_servo.errors import ExperimentError
 from pneumatic_servo.io.bag.reader import _JointPicker
-from pneumatic_servo.io.codecs import CODECS, DecodeError, typestore
+from pneumatic_servo.io.codecs import CODECS, DecodeError, codec_of, typestore
 from pneumatic_servo.io.topics import FLOAT64, FLUID_PRESSURE, JOINT_STATE, TEMPERATURE
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -216,8 +216,8 @@ def test_encoders_give_rosbags_bytes():
 def test_every_topic_has_its_codec():
     from pneumatic_servo.io.topics import TOPICS
     for topic in TOPICS.values():
-        assert topic.codec.msgtype == topic.msgtype
-        assert set(topic.fields) <= set(topic.codec.fields)
+        assert codec_of(topic).msgtype == topic.msgtype
+        assert set(topic.fields) <= set(codec_of(topic).fields)
 
 
 @pytest.mark.parametrize('storage, compress', [('mcap', False), ('mcap', True),

@@ -1,6 +1,6 @@
-"""Batch CDR codecs of the INTERFACES.md message types: the messages of a topic decoded (or
+"""Batch CDR codecs of the interface message types (docs/interfaces.md): the messages of a topic decoded (or
 encoded) all at once with numpy, at fixed offsets. Keyed by message type; each
-:class:`~pneumatic_servo.io.topics.Topic` finds its own as ``topic.codec``.
+:func:`codec_of` finds a :class:`~pneumatic_servo.io.topics.Topic`'s.
 
 The messages of one topic nearly always share one layout: the same frame_id, the same
 joint names, the same sequence lengths; only the stamps and the numbers change. The first
@@ -386,3 +386,9 @@ CODECS: dict[str, Codec] = {c.msgtype: c for c in (
     ScalarCodec(TEMPERATURE, 'temperature',
                 'RIHS01_72514a14126ab9f8a9abec974c78e5610a367b59db5da355ff1fb982d5bad4b8'),
     JointStateCodec())}
+
+
+def codec_of(topic) -> 'object':
+    """The batch codec of ``topic``'s message type (a :class:`~.topics.Topic`). Kept here,
+    not on the topic, so that ``topics`` imports nothing of this module (no import cycle)."""
+    return CODECS[topic.msgtype]

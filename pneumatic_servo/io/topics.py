@@ -43,13 +43,6 @@ class Topic:
     fields: tuple[str, ...] = ('data',)
     offset: float = 0.0
 
-    @property
-    def codec(self):
-        """The batch CDR codec of this topic's message type (:mod:`.codecs`)."""
-        from .codecs import CODECS
-        return CODECS[self.msgtype]
-
-
 TOPICS = {t.name: t for t in (
     Topic('valve/command', FLOAT64, ('command_v',), stamped=False, hold=True),
     Topic('joint_states', JOINT_STATE, ('angle_rad', 'velocity_rad_s', 'effort_n_m'),

@@ -20,7 +20,7 @@ import numpy as np
 from ...errors import ExperimentError
 from ...experiment import Experiment
 from .. import resample, validate
-from ..codecs import DecodeError
+from ..codecs import DecodeError, codec_of
 from ..topics import CIRCUIT_KEY, DEFAULT_JOINT, REQUIRED, SIGNAL_TOPIC, TOPICS, Topic
 from . import errors, metadata, storage
 
@@ -229,7 +229,7 @@ def _decode(where: str, t: _Topic, header: bool, picker, missing: set[str]) -> N
     if not t.raws:
         return
     try:
-        got = t.spec.codec.decode(t.raws, picker)
+        got = codec_of(t.spec).decode(t.raws, picker)
     except DecodeError as exc:
         raise errors.decode_error(where, t.count + exc.index + 1, t.name, t.spec.msgtype,
                                   exc.cause) from None

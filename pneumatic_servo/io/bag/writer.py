@@ -14,7 +14,7 @@ import numpy as np
 
 from ...errors import ExperimentError
 from ...experiment import Experiment
-from ..codecs import typestore
+from ..codecs import codec_of, typestore
 from ..topics import CIRCUIT_KEY, DEFAULT_JOINT, KEY_PREFIX, TOPICS
 from .metadata import custom_value
 from .storage import STORAGES, abandon, add_topic, open_writer, write_samples
@@ -46,7 +46,7 @@ def _messages(exp: Experiment, joint: str, start_ns: int, latency_ns: int
             if signal in sig:
                 values = np.asarray(sig[signal], dtype=float)
                 fields[field] = values - spec.offset if spec.offset else values
-        raws = spec.codec.encode(stamps, fields, joint=joint)
+        raws = codec_of(spec).encode(stamps, fields, joint=joint)
         recs = stamps + latency_ns if spec.stamped else stamps
         out.append((name, recs.tolist(), raws))
     return out
