@@ -161,6 +161,22 @@ def test_a_resent_sample_a_lost_joint_state_and_a_late_command():
     assert cols['command_v'][0] == 5.2 and cols['command_alt_v'][0] == 5.1
 
 
+def test_after_a_gap_a_command_from_before_it_is_not_taken():
+    """The monitor stalled: samples 10-59 and their commands never came. The sample before
+    the gap and those after it whose command would be one from before it get none."""
+    a = Assembler()
+    for k in list(range(10)) + list(range(60, 70)):
+        src = 1_000_000 * k
+        a.scalar('p_a_pa', T0 + src, 4e5)
+        a.joint(T0 + src, 1.0, src + 10)
+        if k != 60:  # the command that answered sample 60 was lost too
+            a.command(5.0 + 0.01 * k, src + 300_000)
+    stamps, cols = a.take(10 ** 12)
+    u = dict(zip((stamps - T0) // 1_000_000, cols['command_v']))
+    assert u[8] == pytest.approx(5.08) and math.isnan(u[9])
+    assert math.isnan(u[60]) and u[61] == pytest.approx(5.61)
+
+
 # --------------------------------------------------------------- a simulated rig
 def _moves(duration_s: float, seed: int):
     from pneumatic_servo.control.reference import TrajectoryPoint

@@ -48,6 +48,8 @@ FIELDS = ('angle_rad', 'p_a_pa', 'p_b_pa', 'supply_pa', 't_a_k', 't_b_k', 'comma
 AMBIGUOUS_FRACTION = 1.0
 #: commands kept at most (about a second at 1 kHz, many more than are ever waiting)
 MAX_COMMANDS = 4096
+#: a step in the stamps longer than this many typical steps is a gap (see :meth:`take`)
+GAP_PERIODS = 3
 
 
 class Assembler:
@@ -58,6 +60,9 @@ class Assembler:
         self.joints: collections.deque = collections.deque()  # (source ns, stamp ns)
         self.commands: list = []                               # (source ns, value), sorted
         self.last_command = math.nan
+        self._last_source = -1           # source ns of the command last used
+        self._gap_source = None          # source ns of the first sample after a gap
+        self._period_ns = None           # typical stamp step of the samples
         self.received = {'joint_states': 0, 'scalars': 0, 'commands': 0, 'late': 0,
                          'lost_joint_states': 0}
         self._done_stamp = None
@@ -97,6 +102,7 @@ class Assembler:
         if i > 0:
             previous = self.last_command
             source, self.last_command = self.commands[i - 1]
+            self._last_source = source
             if i > 1:
                 previous = self.commands[i - 2][1]
             if source_ns - source < AMBIGUOUS_FRACTION * period_ns:
@@ -106,7 +112,12 @@ class Assembler:
 
     def take(self, now_ns: int) -> tuple[np.ndarray, dict] | None:
         """The samples finished by ``now_ns`` (same clock as the source timestamps):
-        (stamps [ns], {signal: values [SI]}), or None."""
+        (stamps [ns], {signal: values [SI]}), or None.
+
+        After a gap in the samples (the monitor lost messages: it was stalled, its queues
+        overflowed), the commands of that time may be lost too: the sample before the gap,
+        and any later one whose command would be one published before the gap, get none
+        (NaN: the windows over them are not judged)."""
         stamps, out = [], {f: [] for f in FIELDS}
         while self.joints:
             source, stamp = self.joints[0]
@@ -114,7 +125,17 @@ class Assembler:
                 nxt, next_stamp = self.joints[1]
                 if now_ns < nxt + HOLD_NS:
                     break
-                command, alt = self._command_before(nxt, next_stamp - stamp)
+                step = next_stamp - stamp
+                command, alt = self._command_before(nxt, step)
+                if self._period_ns is not None and step > GAP_PERIODS * self._period_ns:
+                    self._gap_source = nxt  # commands published before it may be lost
+                    command = alt = math.nan
+                elif step > 0:
+                    self._period_ns = step if self._period_ns is None else min(
+                        max(0.9 * self._period_ns + 0.1 * step, 0.5 * self._period_ns),
+                        2.0 * self._period_ns)
+                if self._gap_source is not None and self._last_source <= self._gap_source:
+                    command = alt = math.nan
             elif now_ns >= source + IDLE_NS:
                 command, alt = self._command_before(now_ns, 0.0)
             else:

@@ -1,14 +1,13 @@
 """Record the interface topics to a rosbag2 with ``rosbags`` (sqlite3 or MCAP).
 
-Messages are taken serialized (CDR, exactly as on the wire) and written as
-they are, with the record time of the node's clock (sim time with
-``use_sim_time``; what comes before the first ``/clock`` has no time and is not recorded).
-A stamped message identical to the one before it on its topic is a lockstep plant's resend
-of an unanswered sample, and is recorded once. The bag is a standard rosbag2 directory:
-``metadata.yaml`` version 9 with each topic's type, type-description hash (RIHS01, which must
-match what ROS 2 Jazzy computes) and the publishers' offered QoS, so
-``ros2 bag info/play`` on a ROS install read it as they read their own.
-``custom_data`` carries ``pneumatic_servo.circuit: servo``.
+Messages are taken serialized (CDR, exactly as on the wire) and written as they are, with
+the record time of the node's clock (sim time with ``use_sim_time``). A stamped message
+identical to the one before it on its topic is a lockstep plant's resend of an unanswered
+sample, and is recorded once. The bag is a standard rosbag2 directory: ``metadata.yaml``
+version 9 with each topic's type, type-description hash (RIHS01, which must match what
+ROS 2 Jazzy computes) and the publishers' offered QoS, so ``ros2 bag info/play`` on a ROS
+install read it as they read their own. ``custom_data`` carries
+``pneumatic_servo.circuit: servo``.
 """
 from __future__ import annotations
 
@@ -113,8 +112,6 @@ class RecorderNode(Node):
             if self.done:
                 return
             now = self.get_clock().now().nanoseconds
-            if now == 0:
-                return  # sim time before the first /clock: no time to record it at
             if stamped and data == last[0]:
                 return  # a lockstep plant resent an unanswered sample: the same message
             last[0] = data
