@@ -75,11 +75,11 @@ def plant_timing(probe, since: float) -> dict:
                                      'overruns') if k in v}
 
 
-def figure(png: Path, leak_after_s: float = 25.0, record_s: float = 45.0) -> dict:
+def figure(png: Path, leak_after_s: float = 25.0, record_s: float = 40.0) -> dict:
     """A monitored free-running run with a seal leak switched on, recorded with the
     monitor's topics and drawn (pneumatic_servo.monitor.figure): returns what happened."""
     import numpy as np
-    from rostest_helpers import Probe, Procs
+    from rostest_helpers import Probe, Procs, level
 
     from pneumatic_servo.control.reference import TrajectoryPoint
     from pneumatic_servo.monitor.figure import plot_run
@@ -90,17 +90,24 @@ def figure(png: Path, leak_after_s: float = 25.0, record_s: float = 45.0) -> dic
     cfg.write_text('effects:\n  piston_seal_leakage: {seal_leak_area_m2: 0.0}\n')
     procs, probe = Procs(domain, tmp), Probe(domain, 'figure')
     try:
-        procs.start('monitor', '--baseline', '10', '--track', 'piston_seal_leakage', '--floor',
-                    tmp / 'floor.yaml', '--set', 'fit_window_s=5', '--set', 'fit_period_s=5',
-                    name='monitor')
         procs.start('controller', name='controller')
-        procs.start('plant', '--config', cfg, '--set', 'initial_angle_rad=1.0', name='plant')
+        # a 1 s watchdog: on shared, loaded cores a starved controller must not trip the
+        # 100 ms one in the middle of the figure (as tests/ros/test_rig_io.py does)
+        procs.start('plant', '--config', cfg, '--set', 'initial_angle_rad=1.0', '--set',
+                    'watchdog_s=1.0', name='plant')
         probe.spin_until(lambda: probe.joint, 60.0, 'the plant')
         t0 = probe.joint[-1][0]
         rng = np.random.default_rng(0)
         probe.send(probe.trajectory_pub, common.joint_trajectory(
-            [TrajectoryPoint(t0 + 0.5 + k, float(rng.uniform(0.6, 2.6)), 0.0, 0.0)
+            [TrajectoryPoint(t0 + 2.5 + k, float(rng.uniform(0.6, 2.6)), 0.0, 0.0)
              for k in range(600)], 'actuator_joint'))
+        probe.spin_until(lambda: 'commanding' in (probe.diag(': plant').message
+                                                  if probe.diag(': plant') else ''),
+                         60.0, 'the plant commanding')
+        procs.start('monitor', '--baseline', '10', '--track', 'piston_seal_leakage', '--floor',
+                    tmp / 'floor.yaml', '--set', 'fit_window_s=5', '--set', 'fit_period_s=5',
+                    name='monitor')
+        probe.spin_until(lambda: node_status(probe) is not None, 60.0, 'the monitor')
         bag = tmp / 'run'
         rec = procs.start('record', bag, '--duration', record_s, '--monitor', name='record')
         start = time.monotonic()
@@ -109,6 +116,10 @@ def figure(png: Path, leak_after_s: float = 25.0, record_s: float = 45.0) -> dic
         probe.set_parameters('pneumatic_servo_plant',
                              sim_values='piston_seal_leakage.seal_leak_area_m2=3e-8')
         rec.wait(record_s + 60)
+        plant = probe.diag(': plant')
+        if plant is None or level(plant) >= 2:
+            raise RuntimeError(f'the plant faulted during the run: {plant and plant.message}; '
+                               'run it again on a less loaded machine')
         from pneumatic_servo.monitor.figure import read_run
         first = read_run(bag)['t0']
         plot_run(bag, png, change_s=leak_stamp - first,
@@ -121,11 +132,52 @@ def figure(png: Path, leak_after_s: float = 25.0, record_s: float = 45.0) -> dic
         probe.close()
 
 
+def lockstep(sim_s: float) -> dict:
+    """The monitor (a floor file from a first run, so it judges at once) beside lockstep
+    plant and controller in one process (``up --processes 1``): the loop's speed with the
+    monitor running, and the share of the windows it judges."""
+    import numpy as np
+    from rostest_helpers import Probe, Procs
+
+    from pneumatic_servo.control.reference import TrajectoryPoint
+    from pneumatic_servo.ros import common
+    domain = 100 + (os.getpid() + 2) % 100
+    tmp = Path(tempfile.mkdtemp(prefix='monitor_lockstep_'))
+    procs, probe = Procs(domain, tmp), Probe(domain, 'lockstep')
+    try:
+        procs.start('monitor', '--baseline', '5', name='monitor')
+        probe.spin_until(lambda: node_status(probe) is not None, 60.0, 'the monitor')
+        procs.start('up', '--clock', 'lockstep', '--processes', 1, '--plant-set',
+                    'initial_angle_rad=1.0', '--plant-set', 'wait_subscribers=3', name='up')
+        rng = np.random.default_rng(0)
+        probe.send(probe.trajectory_pub, common.joint_trajectory(
+            [TrajectoryPoint(0.5 + k, float(rng.uniform(0.6, 2.6)), 0.0, 0.0)
+             for k in range(int(sim_s) + 5)], 'actuator_joint'), wait_subscribers=60.0)
+        probe.spin_until(lambda: probe.joint, 60.0, 'the plant')
+        wall0, sim0 = time.monotonic(), probe.joint[-1][0]
+        probe.spin_until(lambda: probe.joint[-1][0] - sim0 >= sim_s, 600.0, 'the run')
+        speed = (probe.joint[-1][0] - sim0) / (time.monotonic() - wall0)
+        probe.spin(5.0)
+        v = probe.diag_values(node_status(probe))
+        judged = int(v['windows_judged'])
+        return {'sim_s': sim_s, 'speed': speed, 'windows_judged': judged,
+                'windows_of_data': (probe.joint[-1][0] - probe.joint[0][0] - 5.0) / 0.2,
+                'skipped': int(v['windows_skipped']),
+                'incomplete': int(v['windows_incomplete']),
+                'samples_missing': int(v['samples_lost']),
+                'node_status': node_status(probe).message}
+    finally:
+        procs.cleanup()
+        probe.close()
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument('--seconds', type=float, default=30.0,
                     help='seconds of each measurement (default 30)')
     ap.add_argument('--json', metavar='PATH', help='write the figures as JSON')
+    ap.add_argument('--lockstep', type=float, default=60.0, metavar='S',
+                    help='also S simulated seconds of lockstep beside the monitor (0: no)')
     ap.add_argument('--figure', metavar='PNG', help='only draw the figure of a recorded '
                     'monitored run with a seal leak switched on (docs/figures/monitor.png)')
     args = ap.parse_args(argv)
@@ -142,7 +194,8 @@ def main(argv=None) -> int:
     out = {'load_average': os.getloadavg(), 'seconds': args.seconds}
     try:
         procs.start('controller', name='controller')
-        procs.start('plant', '--set', 'initial_angle_rad=1.0', name='plant')
+        procs.start('plant', '--set', 'initial_angle_rad=1.0', '--set', 'watchdog_s=1.0',
+                    name='plant')
         probe.spin_until(lambda: probe.joint, 60.0, 'the plant')
         t0 = probe.joint[-1][0]
         import numpy as np
@@ -201,10 +254,21 @@ def main(argv=None) -> int:
               f'dropped {delta["samples_dropped"]}')
         print(f'monitor says: {out["keeps_up"]["node_status"]}')
         print(f'WARN on the healthy plant: {warns or "none"}')
-        print(f'load average {out["load_average"]}')
+        plant = probe.diag(': plant')
+        out['plant_status'] = plant.message if plant is not None else ''
+        faults = probe.diag_values(plant).get('faults', '') if plant is not None else ''
+        print(f'plant says: {out["plant_status"]} (faults: {faults or "none"})')
     finally:
         procs.cleanup()
         probe.close()
+    if args.lockstep > 0:
+        ls = out['lockstep'] = lockstep(args.lockstep)
+        print(f'lockstep (plant and controller in one process) with the monitor: '
+              f'{ls["speed"]:.1f}x real time; judged {ls["windows_judged"]} of '
+              f'{ls["windows_of_data"]:.0f} windows of data (skipped {ls["skipped"]}, '
+              f'incomplete {ls["incomplete"]}, samples missing {ls["samples_missing"]})')
+        print(f'monitor says: {ls["node_status"]}')
+    print(f'load average at the start {out["load_average"]}, now {os.getloadavg()}')
     if args.json:
         Path(args.json).write_text(json.dumps(out, indent=2, default=str))
     return 0

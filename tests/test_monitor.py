@@ -154,7 +154,7 @@ def test_a_resent_sample_a_lost_joint_state_and_a_late_command():
     a.command(5.2, 20_900_000)  # 0.1 ms before the next measurement: it may be late
     a.joint(T0 + 2_000_000, 0.7, 21_000_000)
     a.joint(T0 + 3_000_000, 0.8, 22_000_000)
-    assert a.take(21_000_000) is None  # the next sample is not yet 50 ms old
+    assert a.take(21_000_000) is None  # the next sample is not yet HOLD_NS old
     stamps, cols = a.take(10 ** 12)
     assert list(stamps - T0) == [0, 1_000_000, 2_000_000, 3_000_000]
     assert np.isnan(cols['angle_rad'][1]) and cols['p_a_pa'][1] == 2.0
@@ -162,19 +162,70 @@ def test_a_resent_sample_a_lost_joint_state_and_a_late_command():
 
 
 def test_after_a_gap_a_command_from_before_it_is_not_taken():
-    """The monitor stalled: samples 10-59 and their commands never came. The sample before
-    the gap and those after it whose command would be one from before it get none."""
+    """The monitor stalled: samples 10-59 never came, and of their commands only the last
+    five, kept in its queue; the answer to sample 60 was lost too. The samples at the gap
+    get no command rather than a wrong one."""
     a = Assembler()
     for k in list(range(10)) + list(range(60, 70)):
         src = 1_000_000 * k
         a.scalar('p_a_pa', T0 + src, 4e5)
         a.joint(T0 + src, 1.0, src + 10)
-        if k != 60:  # the command that answered sample 60 was lost too
+        if k != 60:
             a.command(5.0 + 0.01 * k, src + 300_000)
+    for k in range(55, 60):
+        a.command(5.0 + 0.01 * k, 1_000_000 * k + 300_000)
     stamps, cols = a.take(10 ** 12)
     u = dict(zip((stamps - T0) // 1_000_000, cols['command_v']))
     assert u[8] == pytest.approx(5.08) and math.isnan(u[9])
     assert math.isnan(u[60]) and u[61] == pytest.approx(5.61)
+    # a plant's tick 5 periods late, its one answer in between: nothing lost
+    a = Assembler()
+    for k in list(range(10)) + list(range(14, 20)):
+        src = 1_000_000 * k
+        a.joint(T0 + src, 1.0, src)
+        a.command(5.0 + 0.01 * k, src + 300_000)
+    stamps, cols = a.take(10 ** 12)
+    assert np.isfinite(cols['command_v']).all()
+
+
+def test_while_the_plant_holds_its_valve_safe_no_command_is_taken():
+    """The plant's watchdog tripped (its controller starved) and it said so at sample 100:
+    the valve stays at the safe voltage whatever the controller sends, until re-activated
+    (said at sample 200). Those samples, from 50 ms before, get no command."""
+    a = Assembler()
+    for k in range(300):
+        src = 1_000_000 * k
+        a.joint(T0 + src, 1.0, src)
+        a.command(5.2, src + 300_000)
+        if k == 100:
+            a.valve_held(T0 + src, True)
+        if k == 150:
+            a.valve_held(T0 + src, True)  # said again: one interval
+        if k == 200:
+            a.valve_held(T0 + src, False)
+    stamps, cols = a.take(10 ** 12)
+    unknown = np.flatnonzero(np.isnan(cols['command_v']))
+    assert list(unknown) == list(range(50, 201)) and len(a.held) == 1
+
+
+def test_what_the_gate_gave_the_valve_is_the_command_when_the_plant_says_it():
+    """A free-running plant late by more than a period, its controller's answer late too:
+    the command pairing can only guess; the plant's valve/applied, published just before
+    each measurement, says it, also while the gate holds the valve safe."""
+    a = Assembler()
+    for k in range(20):
+        src = 1_000_000 * k
+        if k:
+            a.applied(5.0 if k > 10 else 5.0 + 0.01 * (k - 2), src - 5)  # u(k-2): late
+        a.joint(T0 + src, 1.0, src)
+        a.command(5.0 + 0.01 * k, src + 900_000)
+        if k == 11:
+            a.valve_held(T0 + src, True)
+    stamps, cols = a.take(10 ** 12)
+    assert np.allclose(cols['command_v'][:10], 5.0 + 0.01 * (np.arange(10) - 1))
+    assert np.allclose(cols['command_v'][10:19], 5.0)  # held at 5 V, and it says so
+    assert np.isnan(cols['command_alt_v'][:19]).all()
+    assert a.received['applied_used'] == 19
 
 
 # --------------------------------------------------------------- a simulated rig

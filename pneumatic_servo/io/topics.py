@@ -67,7 +67,7 @@ SIGNAL_TOPIC = {sig: t.name for t in TOPICS.values() for sig in t.signals}
 INFRASTRUCTURE = frozenset({
     'diagnostics', 'rosout', 'parameter_events', 'tf', 'tf_static', 'clock',
     'robot_description', 'events/write_split', 'diagnostics_agg', 'joint_commands',
-    'joint_trajectory',
+    'joint_trajectory', 'valve/applied',
 })
 
 #: namespaces of what a monitor publishes beside the measurements (``model/joint_states``,

@@ -20,6 +20,16 @@ and the monitor's floor counts that uncertainty (:mod:`.judge`). A lockstep plan
 only after the command arrived, and a replay publishes commands in recorded order; their
 samples are on an exact grid, and the monitor drops the ambiguity there.
 
+While the plant says its output gate holds the valve at the safe voltage (a latched
+fault, such as its watchdog tripping when the controller was starved; inactive), the
+commands do not reach the valve: without ``valve/applied`` (below), those samples get no
+command (:meth:`Assembler.valve_held`), from :data:`HELD_MARGIN_NS` before the plant said
+so; the monitor judges the model, not the gate.
+
+A plant of this package also publishes what its gate gave the valve (``valve/applied``,
+just before each measurement, the value for the period that ends there): where it came, it
+is the sample's command, exactly, whatever the timing (:meth:`Assembler.applied`).
+
 A sample is finished :data:`HOLD_NS` after the next one was published (by then every
 command published before it has arrived), or :data:`IDLE_NS` after it if no next one
 comes (the plant stopped). A sample without its pressures is finished with NaN there (the
@@ -33,8 +43,10 @@ import math
 
 import numpy as np
 
-#: [ns] a sample is finished this long after the next sample was published
-HOLD_NS = 50_000_000
+#: [ns] a sample is finished this long after the next sample was published: messages of
+#: one sample reach a busy monitor (low priority, loaded cores) over separate writers, up to
+#: tens of ms apart; what comes later than this is not used
+HOLD_NS = 300_000_000
 #: [ns] the last sample is finished this long after it was published, if no other comes
 IDLE_NS = 1_000_000_000
 #: the signals of a sample (``command_alt_v``: see module doc)
@@ -50,6 +62,9 @@ AMBIGUOUS_FRACTION = 1.0
 MAX_COMMANDS = 4096
 #: a step in the stamps longer than this many typical steps is a gap (see :meth:`take`)
 GAP_PERIODS = 3
+#: [ns] samples this long before the plant said its valve is held are not judged either (it
+#: reports at once, on the next tick; this covers a late report)
+HELD_MARGIN_NS = 50_000_000
 
 
 class Assembler:
@@ -63,8 +78,10 @@ class Assembler:
         self._last_source = -1           # source ns of the command last used
         self._gap_source = None          # source ns of the first sample after a gap
         self._period_ns = None           # typical stamp step of the samples
+        self.held: list = []             # [from, to] stamps with the valve held safe
+        self.applied_values: list = []   # (source ns, value) of valve/applied, sorted
         self.received = {'joint_states': 0, 'scalars': 0, 'commands': 0, 'late': 0,
-                         'lost_joint_states': 0}
+                         'lost_joint_states': 0, 'applied': 0, 'applied_used': 0}
         self._done_stamp = None
 
     def joint(self, stamp_ns: int, angle: float, source_ns: int) -> None:
@@ -85,6 +102,33 @@ class Assembler:
             self.received['late'] += 1
             return
         self.rows.setdefault(stamp_ns, {})[signal] = value
+
+    def valve_held(self, stamp_ns: int, held: bool) -> None:
+        """The plant says, in its status stamped ``stamp_ns`` (its measurements' clock),
+        whether its gate holds the valve at the safe voltage."""
+        if held and (not self.held or self.held[-1][1] is not None):
+            self.held.append([stamp_ns - HELD_MARGIN_NS, None])
+        elif not held and self.held and self.held[-1][1] is None:
+            self.held[-1][1] = stamp_ns
+        del self.held[:-16]
+
+    def _is_held(self, stamp_ns: int) -> bool:
+        return any(a <= stamp_ns and (b is None or stamp_ns <= b) for a, b in self.held)
+
+    def applied(self, value: float, source_ns: int) -> None:
+        """What the plant's gate gave the valve over the period that ends at the next
+        measurement, published just before it."""
+        self.received['applied'] += 1
+        bisect.insort(self.applied_values, (source_ns, value))
+        del self.applied_values[:-MAX_COMMANDS]
+
+    def _applied_between(self, after_ns: int, until_ns: int) -> float:
+        """The applied value published in (after, until], or NaN; older ones forgotten."""
+        i = bisect.bisect_right(self.applied_values, (until_ns, math.inf))
+        j = bisect.bisect_right(self.applied_values, (after_ns, math.inf))
+        value = self.applied_values[i - 1][1] if i > j else math.nan
+        del self.applied_values[:j]
+        return value
 
     def command(self, value: float, source_ns: int) -> None:
         self.received['commands'] += 1
@@ -114,10 +158,11 @@ class Assembler:
         """The samples finished by ``now_ns`` (same clock as the source timestamps):
         (stamps [ns], {signal: values [SI]}), or None.
 
-        After a gap in the samples (the monitor lost messages: it was stalled, its queues
-        overflowed), the commands of that time may be lost too: the sample before the gap,
-        and any later one whose command would be one published before the gap, get none
-        (NaN: the windows over them are not judged)."""
+        After a gap in the samples, unless exactly one command came in it (a plant's late
+        tick, answered), the monitor lost messages (it was stalled, its queues overflowed)
+        and the commands of that time may be lost too: the sample before the gap, and any
+        later one whose command would be one published before the first sample after it,
+        get none (NaN: the windows over them are not judged)."""
         stamps, out = [], {f: [] for f in FIELDS}
         while self.joints:
             source, stamp = self.joints[0]
@@ -126,15 +171,26 @@ class Assembler:
                 if now_ns < nxt + HOLD_NS:
                     break
                 step = next_stamp - stamp
+                answers = (bisect.bisect_left(self.commands, (nxt, -math.inf))
+                           - bisect.bisect_right(self.commands, (source, math.inf)))
                 command, alt = self._command_before(nxt, step)
                 if self._period_ns is not None and step > GAP_PERIODS * self._period_ns:
-                    self._gap_source = nxt  # commands published before it may be lost
-                    command = alt = math.nan
+                    # a plant's late tick, with its one answer in between; or samples lost,
+                    # and their commands (none, or a backlog's worth, in between)
+                    if answers != 1:
+                        self._gap_source = nxt  # commands published before it may be lost
+                        command = alt = math.nan
                 elif step > 0:
                     self._period_ns = step if self._period_ns is None else min(
                         max(0.9 * self._period_ns + 0.1 * step, 0.5 * self._period_ns),
                         2.0 * self._period_ns)
                 if self._gap_source is not None and self._last_source <= self._gap_source:
+                    command = alt = math.nan
+                exact = self._applied_between(source, nxt) if self.applied_values else math.nan
+                if math.isfinite(exact):  # what the gate gave the valve: no doubt left, even
+                    command, alt = exact, math.nan  # while it holds it safe
+                    self.received['applied_used'] += 1
+                elif self.held and self._is_held(stamp):
                     command = alt = math.nan
             elif now_ns >= source + IDLE_NS:
                 command, alt = self._command_before(now_ns, 0.0)

@@ -44,6 +44,9 @@ CLOCK = '/clock'
 #: measurement topics in publication order (joint_states last: it triggers the controller)
 MEASUREMENT_TOPICS = (PRESSURE_A, PRESSURE_B, PRESSURE_SUPPLY, TEMPERATURE_A, TEMPERATURE_B,
                       JOINT_STATES)
+#: extension: the voltage the plant's gate gave the valve over the period that ends at the
+#: next measurement (std_msgs/Float64 [V], published just before that measurement)
+VALVE_APPLIED = 'valve/applied'
 #: what the monitor publishes (an extension of the interface; relative names): the model's
 #: predictions, stamped like the measurements they predict, and its statistics
 MODEL_JOINT_STATES = 'model/joint_states'
@@ -59,7 +62,8 @@ MONITOR_TOPIC_TYPES = {MODEL_JOINT_STATES: 'sensor_msgs/msg/JointState',
                        DIAGNOSTICS: 'diagnostic_msgs/msg/DiagnosticArray'}
 #: topic -> message type name, for the recorder and the graph checks
 TOPIC_TYPES = {**{name: topic.msgtype for name, topic in TOPICS.items()},
-               TRAJECTORY: 'trajectory_msgs/msg/JointTrajectory', **MONITOR_TOPIC_TYPES}
+               TRAJECTORY: 'trajectory_msgs/msg/JointTrajectory',
+               VALVE_APPLIED: 'std_msgs/msg/Float64', **MONITOR_TOPIC_TYPES}
 
 # -------------------------------------------------------------------------------- QoS
 #: measurements: best effort, keep last 5 (a late sample is worthless)

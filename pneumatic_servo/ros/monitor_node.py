@@ -113,10 +113,15 @@ MONITOR_SPECS = SpecSet([
     Spec('command_order', 'source', 'pair commands with measurements by their publishers\' '
          'source timestamps (one host, or synchronised clocks) or by arrival',
          choices=('source', 'received'), read_only=True),
+    Spec('plant_status', 'pneumatic_servo_plant: plant', "the plant's status on /diagnostics "
+         "('' = none): while it says its gate holds the valve safe, the commands do not reach "
+         'the valve and those samples are not judged', read_only=True),
     Spec('publish_model', True, 'publish the model/ predictions'),
     Spec('diagnostics_period_s', 1.0, 'period of /diagnostics', 's', 0.05, 60.0),
     Spec('seed', 0, "seed of the copies' jitter and noise", '', 0, 2 ** 31 - 1,
          read_only=True),
+    Spec('nice', 10, 'scheduling niceness of the monitor and its workers (0-19): on shared '
+         'cores the plant and the controller win the CPU', '', 0, 19, read_only=True),
     Spec('autostart', True, 'configure and activate at start (no lifecycle manager needed)',
          read_only=True),
 ], cross=_cross)
@@ -179,6 +184,7 @@ class MonitorNode(LifecycleNode):
         return TransitionCallbackReturn.SUCCESS
 
     def _start_worker(self) -> None:
+        import os
         from pathlib import Path
 
         from ..model import ModelConfig
@@ -203,6 +209,11 @@ class MonitorNode(LifecycleNode):
         else:
             self.floor_out = p['floor_file'] or str(default_floor_path(self.get_name()))
             self.floor_note = f'measured on the first {p["baseline_s"]:g} s of data'
+        if p['nice'] > 0:  # the workers inherit it
+            try:
+                os.nice(max(p['nice'] - os.nice(0), 0))
+            except OSError as exc:
+                self.get_logger().warn(f'nice {p["nice"]} not set ({exc})')
         self.worker = MonitorWorker(self.config, self.options, floor, self.floor_out)
         self.get_logger().info(
             f'monitor: model {"from " + str(path) if path else "of the paper"} (effects: '
@@ -227,9 +238,16 @@ class MonitorNode(LifecycleNode):
                   (FluidPressure, common.PRESSURE_SUPPLY, self._on_scalar('supply_pa')),
                   (Temperature, common.TEMPERATURE_A, self._on_scalar('t_a_k', True)),
                   (Temperature, common.TEMPERATURE_B, self._on_scalar('t_b_k', True)),
-                  (Float64, common.COMMAND, self._on_command)]
+                  (Float64, common.COMMAND, self._on_command),
+                  (Float64, common.VALVE_APPLIED, self._on_applied)]
         self.listen = [self.create_subscription(kind, topic, cb, LISTEN_QOS, raw=True)
                        for kind, topic, cb in topics]
+        if self.p['plant_status']:
+            self.listen.append(self.create_subscription(
+                DiagnosticArray, common.DIAGNOSTICS, self._on_plant_status,
+                common.DIAGNOSTICS_QOS))
+        self.valve_held = False
+        self.held_note = ''
 
     def on_activate(self, state: LifecycleState) -> TransitionCallbackReturn:
         from ..monitor.assemble import Assembler
@@ -328,6 +346,34 @@ class MonitorNode(LifecycleNode):
                 return
             self.assembler.scalar(signal, stamp, value + offset)
         return cb
+
+    def _on_plant_status(self, msg, info) -> None:
+        """The plant's gate: held safe (a latched fault, inactive) or commanding."""
+        if self.assembler is None:
+            return
+        for st in msg.status:
+            if st.name != self.p['plant_status']:
+                continue
+            values = {kv.key: kv.value for kv in st.values}
+            held = bool(values.get('faults')) or values.get('state', 'active') != 'active' \
+                or 'held at' in st.message
+            if held != self.valve_held:
+                what = 'holds its valve safe' if held else 'commands its valve again'
+                self.get_logger().info(f'the plant {what}: {st.message}')
+            self.valve_held = held
+            self.held_note = st.message if held else ''
+            stamp = msg.header.stamp
+            self.assembler.valve_held(stamp.sec * 1_000_000_000 + stamp.nanosec, held)
+
+    def _on_applied(self, data: bytes, info) -> None:
+        if self.assembler is None:
+            return
+        try:
+            value = cdr.unpack_float64(data)
+        except (ValueError, IndexError):
+            return
+        # always by source: the plant published it, and the next sample, in this order
+        self.assembler.applied(value, int(info['source_timestamp']))
 
     def _on_command(self, data: bytes, info) -> None:
         if self.assembler is None:
@@ -506,6 +552,10 @@ class MonitorNode(LifecycleNode):
             if rep.get('last_error'):
                 level = 'warn'
                 words.append(f'a window could not be simulated: {rep["last_error"]}')
+            if getattr(self, 'valve_held', False):
+                level = 'warn'
+                words.append(f'the plant holds its valve safe ({self.held_note}): the commands '
+                             'do not reach it, those samples are not judged')
             if self.assembler is not None and self.assembler.received['commands'] == 0 \
                     and self.assembler.received['joint_states'] > 0:
                 level = 'warn'

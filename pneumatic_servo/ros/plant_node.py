@@ -144,6 +144,10 @@ class PlantNode(LifecycleNode):
         self.replay_command_pub = (
             self.create_publisher(Float64, common.COMMAND, COMMAND_QOS)
             if self.p['backend'] == 'replay' and self.p['replay_command'] else None)
+        # the voltage the gate gave the valve over the period that ends at a sample, just
+        # before that sample (an extension of the interface: a monitor then knows the input)
+        self.applied_pub = self.create_publisher(Float64, common.VALVE_APPLIED, SENSOR_QOS)
+        self._applied = None
         self.hot_subscriptions = [self.command_sub]
         self._reset_counters()
         self._next_diag = 0.0
@@ -406,6 +410,7 @@ class PlantNode(LifecycleNode):
         self._last_tick = now
         u = self.gate.output(now)
         self._m = self.backend.step(u)
+        self._applied = u
         self._k += 1
         self._publish(self._m, now)
         self._next_step += self.period_s
@@ -428,6 +433,7 @@ class PlantNode(LifecycleNode):
             self._last_tick = now
             u = self.gate.output(now)
             self._m = self.backend.step(u)
+            self._applied = u
             self._k += 1
             self._publish(self._m, now)
             return
@@ -484,6 +490,9 @@ class PlantNode(LifecycleNode):
         self._stamp_ns = stamp
         if self.clock_pub is not None:
             self.clock_pub.publish(cdr.pack_clock(*divmod(stamp, 1_000_000_000)))
+        if self._applied is not None:
+            self.applied_pub.publish(cdr.pack_float64(self._applied))
+            self._applied = None
         for topic, data in self.packer.pack(m, stamp):
             self.pubs[topic].publish(data)
         self._sent_at = now
