@@ -27,9 +27,9 @@ def add_parser(sub) -> argparse.ArgumentParser:
                    help='comma-separated subset of the interface topics (default: all)')
     p.add_argument('--monitor', action='store_true',
                    help="also the monitor's topics: model/joint_states and the model/ "
-                        'pressures (its predictions), monitor/residuals, monitor/effects and '
-                        '/diagnostics (compare, verify and fleet read such a bag as if they '
-                        'were not there)')
+                        'pressures (its predictions), monitor/residuals, monitor/effects, '
+                        "/diagnostics and the plant's valve/applied (compare, verify and fleet "
+                        'read such a bag as if they were not there)')
     p.add_argument('--use-sim-time', action='store_true',
                    help='time stamps and duration from /clock (lockstep simulation)')
     p.add_argument('--json', metavar='PATH', type=output_file,

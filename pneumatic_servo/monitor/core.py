@@ -139,7 +139,7 @@ class Monitor:
                                  f'{1 / self.floor_period_s:g} Hz, the data come at '
                                  f'{1 / self.dt:g} Hz)')
             self.sensors = None
-        keep_s = max(o.recent_s, o.fit_window_s, o.baseline_s) + o.max_backlog_s + 1.0
+        keep_s = max(o.recent_s, o.fit_window_s, 1.5 * o.baseline_s) + o.max_backlog_s + 1.0
         self.keep = int(round(keep_s / self.dt)) + 2 * self.lead + self.win
 
     @property
@@ -271,22 +271,24 @@ class Monitor:
         return 'judging'
 
     def _baseline(self) -> bool:
-        """Measure the sensors once ``baseline_s`` of complete samples are in this buffer's
-        run; True when the floor was just measured."""
+        """Measure the sensors once ``baseline_s`` worth of complete samples are in this
+        buffer's run (the latest ones, gaps allowed); True when they were just measured."""
         if self.sensors is not None or self.dt is None:
             return False
         need = int(round(self.options.baseline_s / self.dt))
         start = max(self.epoch, self.base)
         if self.end - start < need:
             return False
-        rows = self._rows(self.end - need, self.end)
-        ok = np.all([np.isfinite(self.cols[s][rows]) for s in REQUIRED], axis=0)
-        if ok.sum() < 0.9 * need:
+        rows = self._rows(start, self.end)
+        ok = np.flatnonzero(np.all([np.isfinite(self.cols[s][rows]) for s in REQUIRED],
+                                   axis=0))
+        if len(ok) < need:  # samples missing (a monitor that cannot keep up): wait for more
             return False
+        ok = ok[-need:]
         self.sensors = Sensors.measure({s: self.cols[s][rows][ok] for s in CHANNELS.values()})
         self.baseline_end = self.end
-        self._baseline_info = {'start_ns': int(self.t_ns[rows][ok][0]),
-                               'seconds': float(need * self.dt), 'samples': int(ok.sum())}
+        self._baseline_info = {'start_ns': int(self.t_ns[rows][ok[0]]),
+                               'seconds': float(need * self.dt), 'samples': int(len(ok))}
         self._next_fit = self.end  # the first tracked fit: the baseline itself
         # judging starts with the baseline's latest windows (those the backlog allows): the
         # older ones were data for the floor, not windows the monitor fell behind on
@@ -426,9 +428,10 @@ class Monitor:
         }
 
     def _baseline_left(self) -> float:
-        if self.sensors is not None or self.dt is None:
-            return 0.0
-        have = self.end - max(self.epoch, self.base) if self.last_ns is not None else 0
+        if self.sensors is not None or self.dt is None or self.last_ns is None:
+            return 0.0 if self.sensors is not None else self.options.baseline_s
+        rows = self._rows(max(self.epoch, self.base), self.end)
+        have = int(np.all([np.isfinite(self.cols[s][rows]) for s in REQUIRED], axis=0).sum())
         return max(self.options.baseline_s - have * self.dt, 0.0)
 
     def _channel_report(self, ch: str, c: _Channel, hot: dict | None) -> dict:

@@ -26,9 +26,9 @@ from . import common, private
 DEFAULT_TOPICS = (common.JOINT_STATES, common.PRESSURE_A, common.PRESSURE_B,
                   common.PRESSURE_SUPPLY, common.TEMPERATURE_A, common.TEMPERATURE_B,
                   common.COMMAND, common.SETPOINT, common.TRAJECTORY)
-#: what ``record --monitor`` adds: the monitor's predictions and statistics, and
-#: /diagnostics (its verdicts over time)
-MONITOR_TOPICS = tuple(common.MONITOR_TOPIC_TYPES)
+#: what ``record --monitor`` adds: the monitor's predictions and statistics, /diagnostics
+#: (its verdicts over time) and valve/applied (the input it used)
+MONITOR_TOPICS = tuple(common.MONITOR_TOPIC_TYPES) + (common.VALVE_APPLIED,)
 STORAGES = ('sqlite3', 'mcap')
 #: reliable topics (commands, targets, reports); the rest are sensor data (best effort)
 RELIABLE = (common.COMMAND, common.SETPOINT, common.TRAJECTORY, common.MONITOR_RESIDUALS,
