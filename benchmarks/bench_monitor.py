@@ -9,14 +9,19 @@ measures).
 * the monitor's CPU share (its node process, and the judge and fit processes it starts, from
   /proc), and whether it keeps up with 1 kHz: windows judged, skipped (decimation, which it
   reports), incomplete, and samples missing;
-* the WARNs it raised on the healthy free-running plant.
+* the WARNs it raised on the healthy free-running plant;
+* (``--lockstep S``) beside lockstep plant and controller in one process: the loop's speed
+  and the share of the windows the monitor judges (at its default nice 10 it decimates);
+* (``--figure PNG``, alone) a recorded monitored run with a seal leak switched on, drawn:
+  ``docs/figures/monitor.png``.
 
 The machine's load average is printed too: these are wall-clock and CPU figures on shared
 cores, with other work running.
 
 Usage::
 
-    python benchmarks/bench_monitor.py [--seconds S] [--json PATH]
+    python benchmarks/bench_monitor.py [--seconds S] [--lockstep S] [--json PATH]
+    python benchmarks/bench_monitor.py --figure docs/figures/monitor.png
 """
 from __future__ import annotations
 
