@@ -365,24 +365,25 @@ class MonitorNode(LifecycleNode):
             stamp = msg.header.stamp
             self.assembler.valve_held(stamp.sec * 1_000_000_000 + stamp.nanosec, held)
 
-    def _on_applied(self, data: bytes, info) -> None:
+    def _float64(self, data: bytes) -> float | None:
+        """A std_msgs/Float64's value, or None (not assembling yet, or a malformed message)."""
         if self.assembler is None:
-            return
+            return None
         try:
-            value = cdr.unpack_float64(data)
+            return cdr.unpack_float64(data)
         except (ValueError, IndexError):
-            return
-        # always by source: the plant published it, and the next sample, in this order
-        self.assembler.applied(value, int(info['source_timestamp']))
+            return None
+
+    def _on_applied(self, data: bytes, info) -> None:
+        value = self._float64(data)
+        if value is not None:
+            # always by source: the plant published it, and the next sample, in this order
+            self.assembler.applied(value, int(info['source_timestamp']))
 
     def _on_command(self, data: bytes, info) -> None:
-        if self.assembler is None:
-            return
-        try:
-            value = cdr.unpack_float64(data)
-        except (ValueError, IndexError):
-            return
-        self.assembler.command(value, self._when(info))
+        value = self._float64(data)
+        if value is not None:
+            self.assembler.command(value, self._when(info))
 
     def _send(self) -> None:
         got = self.assembler.take(time.time_ns())
