@@ -142,8 +142,9 @@ class Probe:
         return cb
 
     def _on_diag(self, m):
+        t = time.monotonic()  # one receive time per array: its statuses are read together
         for st in m.status:
-            self.diagnostics.append((time.monotonic(), st))
+            self.diagnostics.append((t, st))
 
     # -------------------------------------------------------------------- spinning
     def spin(self, seconds: float) -> None:
