@@ -69,6 +69,29 @@ def bracket_search(prob: Problem, x: np.ndarray, cost: float, rounds: int = 3,
     return x, cost
 
 
+def _local(prob: Problem, x: np.ndarray, evaluate, max_nfev: int, xtol: float,
+           ftol: float) -> tuple[np.ndarray, bool, str]:
+    """The bounded trust-region solve from ``x``: (solution, success, scipy's message)."""
+    # a parameter the residual does not depend on at all stays where it is: its zero column
+    # would only spend the trust region on a direction the data cannot see
+    norms = np.linalg.norm(evaluate(x)[1] * prob.scale, axis=0)
+    active = np.flatnonzero(norms > ZERO_COLUMN * norms.max()) if norms.max() > 0 else []
+    if not len(active):
+        return x, False, 'the residual depends on none of the parameters'
+
+    def full(v):
+        out = x.copy()
+        out[active] = v
+        return out
+
+    sol = least_squares(lambda v: evaluate(full(v))[0], x[active],
+                        jac=lambda v: evaluate(full(v))[1][:, active],
+                        bounds=(prob.lo[active], prob.hi[active]),
+                        x_scale=prob.scale[active], method='trf', max_nfev=max_nfev,
+                        xtol=xtol, ftol=ftol)
+    return full(sol.x), bool(sol.success), str(sol.message)
+
+
 def fit(prob: Problem, x0=None, max_nfev: int = 40, xtol: float = 1e-6, ftol: float = 1e-8,
         bracket: bool = False) -> Fit:
     """Fit ``prob``'s parameters from ``x0`` (default: the config's values, inside the bounds).
@@ -83,7 +106,8 @@ def fit(prob: Problem, x0=None, max_nfev: int = 40, xtol: float = 1e-6, ftol: fl
     xtol, ftol : float
         scipy's relative tolerances on the step and on the fall of the cost.
     bracket : bool
-        Run :func:`bracket_search` first (for costs that stick-slip makes rough).
+        Run :func:`bracket_search` first, and again around where the local solve stops
+        (for costs that stick-slip makes rough).
     """
     x = np.asarray([prob.config.get(k) for k in prob.keys] if x0 is None else x0, float)
     x = np.clip(x, prob.lo, prob.hi)
@@ -98,25 +122,15 @@ def fit(prob: Problem, x0=None, max_nfev: int = 40, xtol: float = 1e-6, ftol: fl
             cache[key] = prob.evaluate(np.asarray(v, float))
         return cache[key]
 
-    # a parameter the residual does not depend on at all stays where it is: its zero column
-    # would only spend the trust region on a direction the data cannot see
-    norms = np.linalg.norm(evaluate(x)[1] * prob.scale, axis=0)
-    active = np.flatnonzero(norms > ZERO_COLUMN * norms.max()) if norms.max() > 0 else []
-
-    def full(v):
-        out = x.copy()
-        out[active] = v
-        return out
-
-    if len(active):
-        sol = least_squares(lambda v: evaluate(full(v))[0], x[active],
-                            jac=lambda v: evaluate(full(v))[1][:, active],
-                            bounds=(prob.lo[active], prob.hi[active]),
-                            x_scale=prob.scale[active], method='trf', max_nfev=max_nfev,
-                            xtol=xtol, ftol=ftol)
-        x, success, message = full(sol.x), bool(sol.success), str(sol.message)
-    else:
-        success, message = False, 'the residual depends on none of the parameters'
+    x, success, message = _local(prob, x, evaluate, max_nfev, xtol, ftol)
+    if bracket:
+        # on a rough cost the trust region stops in a dent beside the minimum (a leak area
+        # 12 % off, its cost half as high again as the true one's): bracket once more
+        # around where it stopped and polish again from anything better
+        cost = float(evaluate(x)[0] @ evaluate(x)[0])
+        better, lower = bracket_search(prob, x, cost, rounds=2)
+        if lower < cost * (1.0 - ftol):
+            x, success, message = _local(prob, better, evaluate, max_nfev, xtol, ftol)
     r, jac = evaluate(x)
     unc = uncertainty(prob.keys, x, r, jac, prob.lo, prob.hi, prob.scale)
     return Fit(prob.config_at(x), prob.keys, dict(zip(prob.keys, map(float, x))),

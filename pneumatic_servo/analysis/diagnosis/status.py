@@ -77,10 +77,10 @@ def best_named(trial: Trial, ranking: list[Candidate]) -> Candidate | None:
 
 
 def needs_pair(trial: Trial, ranking: list[Candidate], discovered: list[Candidate],
-               left: Departures | None) -> tuple[Candidate, Candidate] | None:
-    """(first, second) when the decision needs the second named effect fitted on top of the
-    first: what the first leaves departs (``left``), or a generic correction beats it
-    clearly."""
+               left: Departures | None) -> tuple[Candidate, tuple[Candidate, ...]] | None:
+    """(first, the other named effects) when the decision needs a second named effect fitted on
+    top of the first: what the first leaves departs (``left``), or a generic correction
+    beats it clearly."""
     first = best_named(trial, ranking)
     if first is None:
         return None
@@ -88,8 +88,9 @@ def needs_pair(trial: Trial, ranking: list[Candidate], discovered: list[Candidat
     if not left.departs and not (
             found is not None and clearly_better(trial, found, first)):
         return None
-    second = next((c for c in ranking if c is not first and certain(c, trial.options)), None)
-    return (first, second) if second is not None else None
+    # every other named effect: one the first has absorbed may not be certain alone
+    others = tuple(c for c in ranking if c is not first)
+    return (first, others) if others else None
 
 
 def _ties(trial: Trial, best: Candidate, ranking, small: bool) -> tuple[str, ...]:
