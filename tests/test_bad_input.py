@@ -290,6 +290,8 @@ CASES = [
                        Out('OUT/sim')], "effect 'root_effect' (", [Out('OUT/sim')]),
     ('user_hook_nan_in_stage', ['compare', SINE, '--effects', F('user_effects', ':Root')],
      'gave NaN or inf in its mechanics hook', []),
+    ('user_hook_nan_in_diagnose', ['diagnose', SINE, '--effects', F('user_effects', ':Root')],
+     "candidate 'root_effect' could not be simulated over any held-out window", []),
     ('user_hook_uncompilable', ['compare', SINE, '--config', F('user_effect_yaml')],
      "effect 'uncompilable_effect' (", []),
     # 12: tracebacks that became one line

@@ -8,11 +8,12 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ... import effects as registry
-from ...errors import ConfigError
-from ...fitting import Fit, Problem, fit, residual_rows, stack
+from ...errors import ConfigError, SimulationError
+from ...fitting import FAILED_RESIDUAL, Fit, Problem, fit, residual_rows, stack
 from ...fitting.problem import with_values
 from ...model.assembly import Model
 from ...model.config import ModelConfig
+from ...prediction import predict_checked
 from .data import Data
 from .hosts import host_for, shared_host
 from .options import DiagnoseOptions
@@ -251,6 +252,21 @@ class Candidate:
                 'fit_seconds': round(self.seconds, 2)}
 
 
+def _cannot_simulate(name: str, model: Model, config: ModelConfig, data: Data) -> None:
+    """Raise why candidate ``name`` failed on every held-out window: ranked, it would only
+    read as a huge negative gain (a user's hook that yields NaN), never as the fault it is."""
+    why = ''
+    for part in data.val:
+        try:
+            predict_checked(model, part.exp, config, part.plan)
+        except SimulationError as exc:
+            why = str(exc)
+            break
+    raise SimulationError(f'candidate {name!r} could not be simulated over any held-out '
+                          f'window ({why or "every window failed"}); fix the effect, or '
+                          'leave it out of the candidates (--effects)')
+
+
 def try_effect(screen: Screen, base: Baseline, data: Data, free: list[str],
                options: DiagnoseOptions, full_fit: bool = True) -> Candidate:
     """Fit the screened effect (and ``free`` base keys) on the fit parts, score it held out.
@@ -274,6 +290,8 @@ def try_effect(screen: Screen, base: Baseline, data: Data, free: list[str],
         fitted, stderr = host, {k: float('nan') for k in keys + list(free)}
         at_bound, corr, converged = [], None, False
     score = score_many(screen.model, data, [fitted])[0]
+    if score.overall >= FAILED_RESIDUAL:
+        _cannot_simulate(name, screen.model, fitted, data)
     values = undetermined_values(fitted, keys, undetermined)
     fixed = {f'{name}.{p.name}': fitted.get(f'{name}.{p.name}')
              for p in cls_.params if not p.fit}
