@@ -82,16 +82,16 @@ def run_lockstep_session(controller: str, bag_dir, end_s: float = END_S, points=
         loop = EventLoop([plant, ctrl, rec, driver])
         t0 = None
         deadline = time.monotonic() + timeout_s
-        while plant._k * plant.period_s < end_s:
+        while plant.samples * plant.period_s < end_s:
             loop.spin_once(0.01)
-            if t0 is None and plant._started:
-                t0, k0 = time.monotonic(), plant._k
+            if t0 is None and plant.started:
+                t0, k0 = time.monotonic(), plant.samples
             if time.monotonic() > deadline:
                 raise RuntimeError(f'lockstep run did not finish in {timeout_s:g} s')
             if plant.state != 'active':
                 raise RuntimeError(f'plant stopped: {plant.halt_reason or plant.state}')
         wall = time.monotonic() - t0
-        sim_s = (plant._k - k0) * plant.period_s
+        sim_s = (plant.samples - k0) * plant.period_s
         plant.shutdown('demo done')
         # let the recorder drain what is still queued for it
         settle = time.monotonic() + 0.3

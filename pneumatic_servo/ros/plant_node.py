@@ -375,6 +375,16 @@ class PlantNode(LifecycleNode):
     def lockstep(self) -> bool:
         return self.p['clock_mode'] == 'lockstep'
 
+    @property
+    def started(self) -> bool:
+        """Whether the first sample has gone out (lockstep and replay wait for subscribers)."""
+        return self._started
+
+    @property
+    def samples(self) -> int:
+        """Sample periods run so far (sim time = ``samples * period_s``)."""
+        return self._k
+
     def next_deadline(self) -> float:
         if self.state != 'active':
             return self._next_diag

@@ -124,6 +124,11 @@ class RecorderNode(Node):
             self.counts[topic] += 1
         return cb
 
+    @property
+    def receiving(self) -> bool:
+        """Whether the first message has been written."""
+        return self._first is not None
+
     def next_deadline(self) -> float:
         return math.inf
 
@@ -170,7 +175,7 @@ def record(out, duration_s: float, storage: str = 'sqlite3', topics=DEFAULT_TOPI
             loop.spin_once(0.01)
             now = time.monotonic()
             if first is None:
-                if rec._first is not None:
+                if rec.receiving:
                     first = now
                 elif now - start > wait_s:
                     loop.stop(f'no message on {", ".join(topics)} within {wait_s:g} s')
