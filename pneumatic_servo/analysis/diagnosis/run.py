@@ -50,14 +50,13 @@ from .candidates import Baseline, Candidate, baseline, candidate_effects, screen
 from .criteria import Levels, certain, earns_place
 from .data import Data
 from .discovery import Discovered, discover
-from .floor import measure_floor
 from .hosts import shared_host
 from .ladder import ladder
 from .options import DiagnoseOptions
 from .result import Diagnosis, added_by
 from .scoring import relative_fall
 from .status import Pair, best_named, decide, needs_pair
-from .trial import Trial
+from .trial import Trial, floor_for
 from .validation import score_on, validate
 from .verdict import rank
 
@@ -206,12 +205,11 @@ def make_trial(data: Data, base: Baseline, free: tuple[str, ...], options: Diagn
                named: int) -> Trial:
     """The frozen context of the diagnosis: with the sensor noise, the prediction floor of
     the model as given and the test levels for ``named`` candidates and the discovery."""
-    host = shared_host(base.config)
-    model = Model(host)
-    floor = measure_floor(model, host, data, options.replicas, options.seed)
+    floor = floor_for(base.config, data, options)
     tries = named + (options.discovery_fits if options.discover else 0)
     levels = Levels.of(options.false_alarm_rate, len(floor.series_channels), tries)
-    return Trial(data, base, free, options, data.noise(model, host), floor, levels)
+    host = shared_host(base.config)
+    return Trial(data, base, free, options, data.noise(Model(host), host), floor, levels)
 
 
 def named_candidates(trial: Trial, names: list[str], progress=None) -> list[Candidate]:

@@ -15,6 +15,12 @@ from .options import DiagnoseOptions
 from .scoring import Score
 
 
+def floor_for(config: ModelConfig, data: Data, options: DiagnoseOptions) -> Floor:
+    """The prediction floor of ``config`` on ``data`` (:func:`.floor.measure_floor`)."""
+    host = shared_host(config)
+    return measure_floor(Model(host), host, data, options.replicas, options.seed)
+
+
 @dataclass(frozen=True)
 class Trial:
     """Everything the candidates are fitted on and judged against, built once.
@@ -54,6 +60,4 @@ class Trial:
         """The prediction floor of another model (a candidate's) on these records: what a
         model leaves depends on the model, so what a named effect leaves is judged against
         its own floor, not the floor of the model it corrects."""
-        host = shared_host(config)
-        return measure_floor(Model(host), host, self.data, self.options.replicas,
-                             self.options.seed)
+        return floor_for(config, self.data, self.options)
