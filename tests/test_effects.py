@@ -299,20 +299,26 @@ class TorsionSpring(Component):
 
 
 def test_user_defined_effect_registers_and_acts_without_editing_the_package():
-    effects.register(TorsionSpring)
-    assert 'test_torsion_spring' in effects.names()
-    cfg = ModelConfig.from_dict({'effects': {'test_torsion_spring': {
-        'stiffness_n_m_per_rad': 0.5, 'rest_angle_rad': '30 deg'}}})
-    assert cfg.get('test_torsion_spring.rest_angle_rad') == pytest.approx(math.radians(30))
-    model = Model(cfg)
-    t = np.arange(0.0, 2.0, 1e-3)
-    # equal pressures, valve at centre: only the spring (and the valve's own bias) acts
-    free = simulate(Model(ModelConfig.paper()), t, 5.0, SUPPLY,
-                    x0=initial_state(Model(ModelConfig.paper()), angle_rad=2.5))
-    sprung = simulate(model, t, 5.0, SUPPLY, x0=initial_state(model, angle_rad=2.5))
-    assert sprung.angle_rad[-1] < free.angle_rad[-1] - 0.1  # pulled back towards 30 deg
-    with pytest.raises(ConfigError, match='outside'):
-        ModelConfig.from_dict({'effects': {'test_torsion_spring': {'stiffness_n_m_per_rad': -1}}})
+    """Registered for this test only: a later diagnosis (test_open_world) must not meet it
+    as a named candidate."""
+    try:
+        effects.register(TorsionSpring)
+        assert 'test_torsion_spring' in effects.names()
+        cfg = ModelConfig.from_dict({'effects': {'test_torsion_spring': {
+            'stiffness_n_m_per_rad': 0.5, 'rest_angle_rad': '30 deg'}}})
+        assert cfg.get('test_torsion_spring.rest_angle_rad') == pytest.approx(math.radians(30))
+        model = Model(cfg)
+        t = np.arange(0.0, 2.0, 1e-3)
+        # equal pressures, valve at centre: only the spring (and the valve's own bias) acts
+        free = simulate(Model(ModelConfig.paper()), t, 5.0, SUPPLY,
+                        x0=initial_state(Model(ModelConfig.paper()), angle_rad=2.5))
+        sprung = simulate(model, t, 5.0, SUPPLY, x0=initial_state(model, angle_rad=2.5))
+        assert sprung.angle_rad[-1] < free.angle_rad[-1] - 0.1  # pulled back towards 30 deg
+        with pytest.raises(ConfigError, match='outside'):
+            ModelConfig.from_dict({'effects': {'test_torsion_spring': {
+                'stiffness_n_m_per_rad': -1}}})
+    finally:
+        effects._REGISTRY.pop(TorsionSpring.name, None)
 
 
 @pytest.mark.parametrize('name', [n for n in CATALOGUE_NAMES if effects.get(n).neutral])

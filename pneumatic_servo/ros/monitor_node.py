@@ -127,6 +127,21 @@ MONITOR_SPECS = SpecSet([
 ], cross=_cross)
 
 
+def _table(kind: str, rows: dict, fields: tuple) -> Float64MultiArray:
+    """A table as a Float64MultiArray: one row per entry of ``rows`` (named in the first
+    dimension's label, ``kind:a,b``), one column per field (NaN where a value is None)."""
+    msg = Float64MultiArray()
+    names = list(rows)
+    msg.layout.dim = [
+        MultiArrayDimension(label=f'{kind}:' + ','.join(names), size=len(names),
+                            stride=len(names) * len(fields)),
+        MultiArrayDimension(label='field:' + ','.join(fields), size=len(fields),
+                            stride=len(fields))]
+    msg.data = [float(r[f]) if r.get(f) is not None else math.nan
+                for r in rows.values() for f in fields]
+    return msg
+
+
 class MonitorNode(LifecycleNode):
     """Monitor node (see module doc). ``overrides`` preset parameter values (command line)."""
 
@@ -440,40 +455,17 @@ class MonitorNode(LifecycleNode):
                 self.published += 1
 
     def _publish_residuals(self, report: dict) -> None:
-        msg = Float64MultiArray()
-        chans = list(report['channels'])
         t = report['t_ns'] * 1e-9
-        msg.layout.dim = [
-            MultiArrayDimension(label='channel:' + ','.join(chans), size=len(chans),
-                                stride=len(chans) * len(RESIDUAL_FIELDS)),
-            MultiArrayDimension(label='field:' + ','.join(RESIDUAL_FIELDS),
-                                size=len(RESIDUAL_FIELDS), stride=len(RESIDUAL_FIELDS))]
-        data = []
-        for ch in chans:
-            c = report['channels'][ch]
-            row = {**c, 'data_time_s': t, 'level': LEVEL_NUMBER[c['level']]}
-            data += [float(row[f]) if row.get(f) is not None else math.nan
-                     for f in RESIDUAL_FIELDS]
-        msg.data = data
-        self.pubs[RESIDUALS].publish(msg)
+        rows = {ch: {**c, 'data_time_s': t, 'level': LEVEL_NUMBER[c['level']]}
+                for ch, c in report['channels'].items()}
+        self.pubs[RESIDUALS].publish(_table('channel', rows, RESIDUAL_FIELDS))
 
     def _publish_effects(self) -> None:
         if not self.estimates:
             return
-        keys = list(self.estimates)
-        msg = Float64MultiArray()
-        msg.layout.dim = [
-            MultiArrayDimension(label='parameter:' + ','.join(keys), size=len(keys),
-                                stride=len(keys) * len(EFFECT_FIELDS)),
-            MultiArrayDimension(label='field:' + ','.join(EFFECT_FIELDS),
-                                size=len(EFFECT_FIELDS), stride=len(EFFECT_FIELDS))]
-        data = []
-        for k in keys:
-            s = self.estimates[k]
-            data += [float(s['t_s']), float(s['value']), float(s['stderr']),
-                     1.0 if s['alert'] else 0.0]
-        msg.data = data
-        self.pubs[EFFECTS].publish(msg)
+        rows = {k: {'data_time_s': s['t_s'], 'value': s['value'], 'stderr': s['stderr'],
+                    'alert': 1.0 if s['alert'] else 0.0} for k, s in self.estimates.items()}
+        self.pubs[EFFECTS].publish(_table('parameter', rows, EFFECT_FIELDS))
 
     def _status(self, name: str, level: str, message: str, values: dict) -> DiagnosticStatus:
         st = DiagnosticStatus(level=common.LEVELS[level], name=f'{self.get_name()}: {name}',

@@ -414,7 +414,8 @@ class PlantNode(LifecycleNode):
         if now >= self._next_diag:
             self._publish_diagnostics(now)
 
-    def _tick_free(self, now: float) -> None:
+    def _step(self, now: float) -> None:
+        """One sample period: the gate's output to the backend, the measurement out."""
         if self._last_tick is not None:
             self._periods.append(now - self._last_tick)
         self._last_tick = now
@@ -423,6 +424,9 @@ class PlantNode(LifecycleNode):
         self._applied = u
         self._k += 1
         self._publish(self._m, now)
+
+    def _tick_free(self, now: float) -> None:
+        self._step(now)
         self._next_step += self.period_s
         if now - self._next_step > self.period_s:
             # more than a period late: count it and resynchronise instead of bursting
@@ -438,14 +442,7 @@ class PlantNode(LifecycleNode):
                 self._publish(self._m, now)
             return
         if self._answered:
-            if self._last_tick is not None:
-                self._periods.append(now - self._last_tick)
-            self._last_tick = now
-            u = self.gate.output(now)
-            self._m = self.backend.step(u)
-            self._applied = u
-            self._k += 1
-            self._publish(self._m, now)
+            self._step(now)
             return
         waited = now - self._sent_at
         # the watchdog counts from the last *new* command: resending the measurement below
