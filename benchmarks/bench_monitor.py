@@ -80,32 +80,39 @@ def plant_timing(probe, since: float) -> dict:
                                      'overruns') if k in v}
 
 
+def start_free_loop(procs, probe, *plant_args, first_move_s: float, moves: int) -> None:
+    """The PID controller and a free-running sim plant (``plant_args`` added) in processes of
+    their own, then a move to a random angle every second from ``first_move_s`` after the
+    plant's first sample. The plant's watchdog is 1 s: on shared, loaded cores a starved
+    controller must not trip the 100 ms one mid-run (as tests/ros/test_rig_io.py does)."""
+    import numpy as np
+
+    from pneumatic_servo.control.reference import TrajectoryPoint
+    from pneumatic_servo.ros import common
+    procs.start('controller', name='controller')
+    procs.start('plant', *plant_args, '--set', 'initial_angle_rad=1.0', '--set',
+                'watchdog_s=1.0', name='plant')
+    probe.spin_until(lambda: probe.joint, 60.0, 'the plant')
+    t0 = probe.joint[-1][0]
+    rng = np.random.default_rng(0)
+    probe.send(probe.trajectory_pub, common.joint_trajectory(
+        [TrajectoryPoint(t0 + first_move_s + k, float(rng.uniform(0.6, 2.6)), 0.0, 0.0)
+         for k in range(moves)], 'actuator_joint'))
+
+
 def figure(png: Path, leak_after_s: float = 25.0, record_s: float = 40.0) -> dict:
     """A monitored free-running run with a seal leak switched on, recorded with the
     monitor's topics and drawn (pneumatic_servo.monitor.figure): returns what happened."""
-    import numpy as np
     from rostest_helpers import Probe, Procs, level
 
-    from pneumatic_servo.control.reference import TrajectoryPoint
     from pneumatic_servo.monitor.figure import plot_run
-    from pneumatic_servo.ros import common
     domain = 100 + (os.getpid() + 1) % 100
     tmp = Path(tempfile.mkdtemp(prefix='monitor_figure_'))
     cfg = tmp / 'plant.yaml'
     cfg.write_text('effects:\n  piston_seal_leakage: {seal_leak_area_m2: 0.0}\n')
     procs, probe = Procs(domain, tmp), Probe(domain, 'figure')
     try:
-        procs.start('controller', name='controller')
-        # a 1 s watchdog: on shared, loaded cores a starved controller must not trip the
-        # 100 ms one in the middle of the figure (as tests/ros/test_rig_io.py does)
-        procs.start('plant', '--config', cfg, '--set', 'initial_angle_rad=1.0', '--set',
-                    'watchdog_s=1.0', name='plant')
-        probe.spin_until(lambda: probe.joint, 60.0, 'the plant')
-        t0 = probe.joint[-1][0]
-        rng = np.random.default_rng(0)
-        probe.send(probe.trajectory_pub, common.joint_trajectory(
-            [TrajectoryPoint(t0 + 2.5 + k, float(rng.uniform(0.6, 2.6)), 0.0, 0.0)
-             for k in range(600)], 'actuator_joint'))
+        start_free_loop(procs, probe, '--config', cfg, first_move_s=2.5, moves=600)
         probe.spin_until(lambda: 'commanding' in (probe.diag(': plant').message
                                                   if probe.diag(': plant') else ''),
                          60.0, 'the plant commanding')
@@ -191,23 +198,12 @@ def main(argv=None) -> int:
         return 0
     from rostest_helpers import Probe, Procs, level
 
-    from pneumatic_servo.control.reference import TrajectoryPoint
-    from pneumatic_servo.ros import common
     domain = 100 + os.getpid() % 100
     tmp = Path(tempfile.mkdtemp(prefix='bench_monitor_'))
     procs, probe = Procs(domain, tmp), Probe(domain, 'bench_monitor')
     out = {'load_average': os.getloadavg(), 'seconds': args.seconds}
     try:
-        procs.start('controller', name='controller')
-        procs.start('plant', '--set', 'initial_angle_rad=1.0', '--set', 'watchdog_s=1.0',
-                    name='plant')
-        probe.spin_until(lambda: probe.joint, 60.0, 'the plant')
-        t0 = probe.joint[-1][0]
-        import numpy as np
-        rng = np.random.default_rng(0)
-        probe.send(probe.trajectory_pub, common.joint_trajectory(
-            [TrajectoryPoint(t0 + 0.5 + k, float(rng.uniform(0.6, 2.6)), 0.0, 0.0)
-             for k in range(3600)], 'actuator_joint'))
+        start_free_loop(procs, probe, first_move_s=0.5, moves=3600)
         start = time.monotonic()
         probe.spin(args.seconds)
         out['without_monitor'] = plant_timing(probe, start)
