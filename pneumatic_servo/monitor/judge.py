@@ -31,7 +31,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..analysis.diagnosis.data import noise_sigma
-from ..analysis.diagnosis.floor import PHASE_SAMPLES, RTOL_FACTORS, Floor, quantum
+from ..analysis.diagnosis.floor import (PHASE_SAMPLES, RTOL_FACTORS, Floor, quantum,
+                                         sensor_reading)
 from ..experiment import Experiment
 from ..model.assembly import Model
 from ..model.config import ModelConfig
@@ -193,12 +194,8 @@ def judge_windows(model: Model, config: ModelConfig, signals: dict, starts, win:
         truth = predict(model, truth_exp, [config], truth_plan, rtol=float(rtols[j]))[0]
         part = slice(j * n, (j + 1) * n)
         for ch, sig in CHANNELS.items():
-            y = truth[sig].reshape(count, block)[:, lead:].copy()
-            y[:, 1:] = (1.0 - phases[j]) * y[:, 1:] + phases[j] * y[:, :-1]
-            y += rng.normal(0.0, sensors.noise[ch], y.shape)
-            q = sensors.quantum[ch]
-            if q > 0:
-                y = np.round(y / q) * q
+            y = sensor_reading(truth[sig].reshape(count, block)[:, lead:], phases[j],
+                               sensors.noise[ch], sensors.quantum[ch], rng)
             x = copies[sig][part]
             x[mask] = y.ravel()
     rep_exp = Experiment(np.arange(n * replicas) * dt, copies, 'servo', 'monitor copies')

@@ -129,17 +129,21 @@ def _jittered_truth(model: Model, config: ModelConfig, exp: Experiment, plan: Pl
     return predict(model, exp, [config], truth_plan, rtol=rtol)[0]
 
 
+def sensor_reading(truth: np.ndarray, phase: float, sigma: float, step: float,
+                   rng: np.random.Generator) -> np.ndarray:
+    """What sensors show of ``truth`` (samples along its last axis): read ``phase`` of a
+    sample early, with white noise ``sigma`` and quantisation ``step`` [units of truth]
+    (0: none). Also the monitor's copies (:mod:`pneumatic_servo.monitor.judge`)."""
+    y = truth.copy()
+    y[..., 1:] = (1.0 - phase) * y[..., 1:] + phase * y[..., :-1]
+    y = y + rng.normal(0.0, sigma, y.shape)
+    return np.round(y / step) * step if step > 0 else y
+
+
 def _measured(truth: np.ndarray, regions, phase: float, sigma: float, step: float,
               rng: np.random.Generator) -> list[np.ndarray]:
-    """What the record's sensors show of ``truth`` over each region: read ``phase`` of a
-    sample early, with white noise ``sigma`` and quantisation ``step`` [units of truth]."""
-    out = []
-    for a, b in regions:
-        y = truth[a:b].copy()
-        y[1:] = (1.0 - phase) * y[1:] + phase * y[:-1]
-        y = y + rng.normal(0.0, sigma, b - a)
-        out.append(np.round(y / step) * step if step > 0 else y)
-    return out
+    """What the record's sensors show of ``truth`` over each region (:func:`sensor_reading`)."""
+    return [sensor_reading(truth[a:b], phase, sigma, step, rng) for a, b in regions]
 
 
 def quanta(data: Data) -> dict[str, float]:
