@@ -56,6 +56,29 @@ def test_floor_test_has_its_stated_false_alarm_rate():
     assert hits / trials == pytest.approx(level, abs=0.006)
 
 
+def test_floor_with_refits_keeps_its_false_alarm_rate():
+    """What a refitted effect leaves is the replicas' mean square times the refit's own
+    scatter. Against the floor with that scatter added (three refits), such a remainder departs
+    at most at the stated level; against the floor without it, far more often: simulated."""
+    rng = np.random.default_rng(1)
+    level, trials = 0.01, 3000
+    with_refits = without = 0
+    for _ in range(trials):
+        logs = rng.normal(0.0, 0.4, 17)
+        refits = rng.normal(0.6, 0.3, 4)
+        floor = Floor({'angle': np.exp(logs[:16])}, np.exp(logs[:16]), units=10 ** 6)
+        remainder = float(np.exp(logs[16] + refits[3]))
+        with_refits += floor.with_refits({'angle': refits[:3]}).test(
+            remainder, 'angle').p_value <= level
+        without += floor.test(remainder, 'angle').p_value <= level
+    assert with_refits / trials <= 1.5 * level
+    assert without / trials > 5 * level
+    raised = floor.with_refits({'angle': refits[:3], 'overall': np.full(3, -1.0)})
+    assert raised.rms('angle') == pytest.approx(floor.rms('angle')
+                                                * np.exp(0.5 * max(refits[:3].mean(), 0.0)))
+    assert raised.rms() == floor.rms()  # a refit never lowers the floor
+
+
 def test_gain_test_and_levels():
     base = Score({'angle': 1.0}, 1.0)
     assert gain_p_value(base, Score({'angle': 0.5}, 0.5), 1, 40) < 1e-6

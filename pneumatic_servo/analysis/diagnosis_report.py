@@ -57,8 +57,8 @@ def _tests(res: dict) -> list[str]:
     tests, floor = res['tests'], res['floor']
     models = [('model as given', tests['base'])]
     if 'remainder' in tests:
-        models.append(('with the best named effect', tests['remainder']))
-    chans = [ch for ch in tests['base'] if isinstance(tests['base'][ch], dict)]
+        models.append(('with the best named effect (against its own floor)', tests['remainder']))
+    chans = [ch for ch, d in tests['base'].items() if isinstance(d, dict) and 'p_value' in d]
     rows = []
     for ch in chans:
         cells = [html.escape(ch), f'{floor["rms"][ch]:.4g}']
@@ -77,8 +77,21 @@ def _tests(res: dict) -> list[str]:
             f'per record a channel departs at p &le; {levels["departure"]:.2g}; an effect '
             f'earns its place at p &le; {levels["candidate"]:.2g} when it explains at least '
             f'{res["options"]["practical_size"]:g} &times; the floor.</p>',
+            *_refit_note(tests),
             table(['channel', 'floor (RMS / spread)'] + [m for m, _ in models], rows,
                   escape_header=False)]
+
+
+def _refit_note(tests: dict) -> list[str]:
+    """Where what the named effect leaves was judged with its fit's own scatter added."""
+    floor = tests.get('remainder', {}).get('floor', {})
+    if 'refits' not in floor:
+        return []
+    factors = ', '.join(f'{html.escape(ch)} {f:.2f}' for ch, f in floor['refit_inflation'].items())
+    return [f'<p class="note">What the best named effect leaves departed from its own floor, '
+            f'so its fit was repeated on {floor["refits"]} whole replicas of these records: '
+            'its fitted values scatter, and that scatter is part of what a correct answer '
+            f'leaves. The floor\'s mean squares were raised by {factors}.</p>']
 
 
 def _next_steps(result: Diagnosis, applied_to: str | None, emitted_to: str | None) -> str:

@@ -62,6 +62,8 @@ class Departures:
     level: float
     #: the tests that decide: the pooled one and the time-series channels (:class:`Floor`)
     deciding: tuple[str, ...] = ('overall',)
+    #: the floor tested against
+    floor: Floor | None = None
 
     @property
     def departs(self) -> bool:
@@ -83,8 +85,11 @@ class Departures:
         return text
 
     def to_json(self) -> dict:
-        return {'level': self.level, 'departs': self.departs, 'deciding': list(self.deciding),
-                **{k: d.to_json() for k, d in self.tests.items()}}
+        out = {'level': self.level, 'departs': self.departs, 'deciding': list(self.deciding),
+               **{k: d.to_json() for k, d in self.tests.items()}}
+        if self.floor is not None:
+            out['floor'] = self.floor.to_json()
+        return out
 
 
 def departures(score: Score, floor: Floor, level: float) -> Departures:
@@ -93,7 +98,7 @@ def departures(score: Score, floor: Floor, level: float) -> Departures:
              if ch in floor.channels}
     tests['overall'] = floor.test(score.mean_square())
     deciding = ('overall',) + tuple(ch for ch in floor.series_channels if ch in tests)
-    return Departures(tests, level, deciding)
+    return Departures(tests, level, deciding, floor)
 
 
 def gain_p_value(reference: Score, candidate: Score, added: int, units: int) -> float:

@@ -22,10 +22,15 @@ A held-out mean square is then compared with its replicas' (:meth:`Floor.test`):
 prediction-interval test on the log scale (Student t with R - 1 degrees of freedom), whose
 spread has the chi-square sampling variance of the record's independent units added, so
 that a record with nearly identical replicas is not judged against a spread of zero.
+
+The replicas score the fitted values as they are. A named effect's values were themselves
+fitted to this record, and where stick-slip makes the fit cost rough they scatter well
+beyond their standard errors; so what a fitted effect leaves is judged against a floor
+that has the fit's own scatter added (:meth:`Floor.with_refits`, :mod:`.refit`).
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -95,30 +100,54 @@ class Floor:
     pooled: np.ndarray
     units: int
     series_channels: tuple = ()
+    #: channel (and ``'overall'``) -> log ratios of the held-out mean square of values refitted
+    #: on whole replicas to that of the values they were simulated with (:meth:`with_refits`)
+    refits: dict = field(default_factory=dict)
 
     @property
     def replicas(self) -> int:
         return len(self.pooled)
 
+    def _refit(self, channel: str | None) -> tuple[float, float]:
+        """(shift, variance) on the log scale that refitting adds to ``channel``'s mean
+        square: the mean log ratio (never below 0: refitted values do not predict new data
+        better than those the data came from) and the ratios' variance."""
+        logs = self.refits.get(channel or 'overall')
+        if logs is None or not len(logs):
+            return 0.0, 0.0
+        return max(float(np.mean(logs)), 0.0), float(np.var(logs, ddof=1)) if len(logs) > 1 else 0.0
+
     def rms(self, channel: str | None = None) -> float:
         """The floor's RMS [normalised] of ``channel``, or pooled."""
         ms = self.pooled if channel is None else self.channels[channel]
-        return float(np.sqrt(np.mean(ms)))
+        return float(np.sqrt(np.mean(ms) * np.exp(self._refit(channel)[0])))
 
     def test(self, mean_square: float, channel: str | None = None) -> Departure:
         """``mean_square`` [normalised^2] of ``channel`` (or pooled) against the replicas."""
         from scipy.stats import t as student
         ms = self.pooled if channel is None else self.channels[channel]
-        logs = np.log(np.maximum(ms, 1e-300))
+        shift, variance = self._refit(channel)
+        logs = np.log(np.maximum(ms, 1e-300)) + shift
         r = len(logs)
-        spread = np.sqrt(np.var(logs, ddof=1) + 2.0 / max(self.units, 1))
+        spread = np.sqrt(np.var(logs, ddof=1) + variance + 2.0 / max(self.units, 1))
         z = (np.log(max(mean_square, 1e-300)) - logs.mean()) / (spread * np.sqrt(1 + 1 / r))
-        return Departure(float(np.sqrt(mean_square / np.mean(ms))),
+        return Departure(float(np.sqrt(mean_square) / self.rms(channel)),
                          float(student.sf(z, r - 1)))
 
+    def with_refits(self, refits: dict[str, np.ndarray]) -> 'Floor':
+        """This floor with the fit's own scatter added: ``refits`` maps each channel (and
+        ``'overall'``) to the log ratios of what values refitted on whole replicas leave
+        held out to what the values the replicas came from leave."""
+        return replace(self, refits={k: np.asarray(v, float) for k, v in refits.items()})
+
     def to_json(self) -> dict:
-        return {'replicas': self.replicas, 'units': self.units,
-                'rms': {'overall': self.rms(), **{ch: self.rms(ch) for ch in self.channels}}}
+        out = {'replicas': self.replicas, 'units': self.units,
+               'rms': {'overall': self.rms(), **{ch: self.rms(ch) for ch in self.channels}}}
+        if self.refits:
+            out['refits'] = len(self.refits['overall'])
+            out['refit_inflation'] = {k: float(np.exp(self._refit(None if k == 'overall' else k)[0]))
+                                      for k in self.refits}
+        return out
 
 
 def _jittered_truth(model: Model, config: ModelConfig, exp: Experiment, plan: Plan, regions,
@@ -196,6 +225,38 @@ def _series_replicas(model: Model, config: ModelConfig, part: Part, count: int,
                              dict(exp.metadata))
             out.append((j, Part(rep, part.scales, plan.subset(segments), smooth=part.smooth)))
     return out
+
+
+def _table_replica(model: Model, config: ModelConfig, part: Part, rng: np.random.Generator
+                   ) -> Part:
+    """A replica of a static table: the rows ``config`` predicts, with the noise its
+    residual shows (rows are independent operating points)."""
+    rows = residual_rows(model, [part], [config])[0]
+    signals = dict(part.exp.signals)
+    for ch, r in rows.items():
+        sig, scale = CHANNELS[ch].signal, part.scales[ch]
+        x = signals[sig].copy()
+        x[part.index] = part.measured(sig) + scale * (r + rng.normal(0.0, noise_sigma(r), len(r)))
+        signals[sig] = x
+    exp = part.exp
+    rep = Experiment(exp.t, signals, exp.circuit, f'{exp.name}[replica]', True, dict(exp.metadata))
+    return Part(rep, part.scales, None, part.first, part.smooth)
+
+
+def replica_data(model: Model, config: ModelConfig, data: Data, rng: np.random.Generator
+                 ) -> Data:
+    """One replica of the whole of ``data``, fitted and held-out parts, simulated with
+    ``config`` (compiled as ``model``) and measured as the record's sensors measure: what a
+    refit is tried on (:mod:`.refit`)."""
+    steps = quanta(data)
+
+    def copy(part: Part) -> list[Part]:
+        if part.plan is None:
+            return [_table_replica(model, config, part, rng)]
+        return [p for _, p in _series_replicas(model, config, part, 1, steps, rng)]
+
+    return Data(data.experiments, [p for part in data.fit for p in copy(part)],
+                [p for part in data.val for p in copy(part)])
 
 
 def measure_floor(model: Model, config: ModelConfig, data: Data, count: int, seed: int

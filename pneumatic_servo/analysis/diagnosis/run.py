@@ -47,11 +47,12 @@ from ...prediction import predict
 from ..regimes import error_shares, hot_spots
 from ..residuals import residual_tests, summary
 from .candidates import Baseline, Candidate, baseline, candidate_effects, screen_effect, try_effect
-from .criteria import Levels, certain, earns_place
+from .criteria import Levels, certain
 from .data import Data
 from .discovery import Discovered, discover
 from .hosts import shared_host
 from .ladder import ladder
+from .refit import remainder
 from .options import DiagnoseOptions
 from .result import Diagnosis, added_by
 from .scoring import relative_fall
@@ -225,11 +226,6 @@ def named_candidates(trial: Trial, names: list[str], progress=None) -> list[Cand
         if progress is not None:
             progress(out[-1])
     return out
-
-
-def remainder(trial: Trial, cand: Candidate):
-    """What ``cand`` leaves, against its own model's floor."""
-    return trial.departures(cand.score, trial.floor_of(cand.config))
 
 
 def second_on_top(trial: Trial, first: Candidate, others: tuple[Candidate, ...], left

@@ -102,6 +102,13 @@ def print_floor(result: Diagnosis, out=print) -> None:
         f'departs at p <= {base.level:.2g}, an effect earns its place at p <= '
         f'{result.trial.levels.candidate:.2g} and explains >= '
         f'{result.options.practical_size:g} x the floor')
+    left = result.remainder
+    if left is not None and left.floor is not None and left.floor.refits:
+        refit = left.floor.to_json()
+        inflation = ', '.join(f'{ch} {f:.2f}' for ch, f in refit['refit_inflation'].items())
+        out(f'  what the named effect leaves is judged against its own floor with the scatter '
+            f'of its fit on {refit["refits"]} whole replicas added (mean-square factors: '
+            f'{inflation}): {left.words()}')
 
 
 def print_verdict(result: Diagnosis, out=print) -> None:
