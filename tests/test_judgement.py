@@ -12,6 +12,7 @@ from pneumatic_servo.analysis.diagnosis import DiagnoseOptions, diagnose
 from pneumatic_servo.analysis.diagnosis.criteria import Levels, Status, gain_p_value
 from pneumatic_servo.analysis.diagnosis.floor import Floor, quantum
 from pneumatic_servo.analysis.diagnosis.scoring import Score
+from pneumatic_servo.synth.hidden import example_values
 from pneumatic_servo.synth.varied import Record, make_record
 
 #: clean records of designs the project's thresholds were never tuned on
@@ -42,6 +43,24 @@ def test_an_effect_in_one_channel_alone_is_not_consistent():
     assert result.status != Status.CONSISTENT, result.reason
     base = result.to_json()['tests']['base']
     assert base['departs']
+
+
+def test_a_whole_answer_is_judged_with_its_fits_scatter():
+    """A leak of 0.4 x the example size in a closed loop (a record of the power study): the
+    rough stick-slip cost leaves the fitted areas 8 % and 16 % off, and against a floor that
+    scores fixed values the angle departs (1.9 x). Refitted on whole replicas, the fit
+    scatters as much, so the leak is the whole answer, and the JSON says what was added."""
+    values = {k: 0.4 * v for k, v in example_values('external_leakage').items()}
+    rec = Record('closed_steps', 500.0, 10.0, effects={'external_leakage': values}, seed=52)
+    result = diagnose([make_record(rec)])
+    assert result.status == Status.EXPLAINED, result.reason
+    assert result.verdict == 'external_leakage'
+    floor = result.to_json()['tests']['remainder']['floor']
+    assert floor['refits'] == 3
+    assert floor['refit_inflation']['angle'] > 1.5
+    fixed = result.trial.departures(result.winner.score, result.trial.floor_of(
+        result.winner.config))
+    assert fixed.departs  # the same remainder against the floor of fixed values
 
 
 def test_floor_test_has_its_stated_false_alarm_rate():

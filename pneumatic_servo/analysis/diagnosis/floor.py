@@ -192,11 +192,14 @@ def quanta(data: Data) -> dict[str, float]:
 
 
 def _series_replicas(model: Model, config: ModelConfig, part: Part, count: int,
-                     steps: dict[str, float], rng: np.random.Generator
+                     steps: dict[str, float], rng: np.random.Generator, dt: float | None = None
                      ) -> list[tuple[int, Part]]:
     """(replica number, part) of ``count`` replicas of a time-series part, each replica cut
     into :data:`GROUPS` parts of interleaved segments; ``steps``: the quantisation steps
-    (:func:`quanta`)."""
+    (:func:`quanta`); ``dt`` [s]: the record's own sample interval, when the part is
+    decimated (the sampling-phase jitter is a fraction of the record's interval, not of the
+    part's: jitter of a fifth of a 250 Hz sample on a 500 Hz record's fitted part would double
+    the time offset and quadruple what it leaves)."""
     exp, plan = part.exp, part.plan
     lead = int(round(plan.lead_s / exp.dt))
     signals = [CHANNELS[ch].signal for ch in part.scales]
@@ -205,7 +208,7 @@ def _series_replicas(model: Model, config: ModelConfig, part: Part, count: int,
         step = steps.get(sig, 0.0)
         sensors[sig] = (np.sqrt(max(noise_sigma(exp[sig]) ** 2 - step ** 2 / 12.0, 0.0)), step)
     rtols = DEFAULT_RTOL * np.exp(rng.uniform(*np.log(RTOL_FACTORS), count))
-    phases = rng.uniform(0.0, PHASE_SAMPLES, count)
+    phases = rng.uniform(0.0, PHASE_SAMPLES, count) * min((dt or exp.dt) / exp.dt, 1.0)
     out = []
     for g in range(GROUPS):
         segments = plan.segments[g::GROUPS]
@@ -250,13 +253,14 @@ def replica_data(model: Model, config: ModelConfig, data: Data, rng: np.random.G
     refit is tried on (:mod:`.refit`)."""
     steps = quanta(data)
 
-    def copy(part: Part) -> list[Part]:
+    def copy(part: Part, exp: Experiment) -> list[Part]:
         if part.plan is None:
             return [_table_replica(model, config, part, rng)]
-        return [p for _, p in _series_replicas(model, config, part, 1, steps, rng)]
+        return [p for _, p in _series_replicas(model, config, part, 1, steps, rng, exp.dt)]
 
-    return Data(data.experiments, [p for part in data.fit for p in copy(part)],
-                [p for part in data.val for p in copy(part)])
+    return Data(data.experiments,
+                [p for part, exp in zip(data.fit, data.experiments) for p in copy(part, exp)],
+                [p for part, exp in zip(data.val, data.experiments) for p in copy(part, exp)])
 
 
 def measure_floor(model: Model, config: ModelConfig, data: Data, count: int, seed: int
