@@ -117,10 +117,15 @@ class Floor:
             return 0.0, 0.0
         return max(float(np.mean(logs)), 0.0), float(np.var(logs, ddof=1)) if len(logs) > 1 else 0.0
 
+    def refit_factor(self, channel: str | None = None) -> float:
+        """The factor by which refitting raises the mean square of ``channel`` (or pooled):
+        1 without refits."""
+        return float(np.exp(self._refit(channel)[0]))
+
     def rms(self, channel: str | None = None) -> float:
         """The floor's RMS [normalised] of ``channel``, or pooled."""
         ms = self.pooled if channel is None else self.channels[channel]
-        return float(np.sqrt(np.mean(ms) * np.exp(self._refit(channel)[0])))
+        return float(np.sqrt(np.mean(ms) * self.refit_factor(channel)))
 
     def test(self, mean_square: float, channel: str | None = None) -> Departure:
         """``mean_square`` [normalised^2] of ``channel`` (or pooled) against the replicas."""
@@ -145,7 +150,7 @@ class Floor:
                'rms': {'overall': self.rms(), **{ch: self.rms(ch) for ch in self.channels}}}
         if self.refits:
             out['refits'] = len(self.refits['overall'])
-            out['refit_inflation'] = {k: float(np.exp(self._refit(None if k == 'overall' else k)[0]))
+            out['refit_inflation'] = {k: self.refit_factor(None if k == 'overall' else k)
                                       for k in self.refits}
         return out
 

@@ -26,6 +26,7 @@ from .criteria import Departures
 from .floor import replica_data
 from .hosts import shared_host
 from .scoring import score_many
+from .status import best_generic, clearly_better
 
 #: whole replicas refitted: each costs one candidate fit
 REFITS = 3
@@ -49,13 +50,16 @@ def refit_log_ratios(trial, cand: Candidate, count: int = REFITS) -> dict[str, n
     return {k: np.array(v) for k, v in out.items()}
 
 
-def remainder(trial, cand: Candidate) -> Departures:
-    """What named effect ``cand`` leaves, against its own model's floor; where it departs,
-    against that floor with the fit's scatter added (:data:`REFITS` refits), which a whole
-    answer does not depart from."""
+def remainder(trial, cand: Candidate, discovered=()) -> Departures:
+    """What named effect ``cand`` leaves, against its own model's floor; where it departs, or
+    where a generic correction of ``discovered`` fits clearly better, against that floor
+    with the fit's scatter added (:data:`REFITS` refits): a whole answer does not depart
+    from it, and a generic correction must beat the named effect by more than that scatter
+    (:func:`.status.clearly_better`)."""
     floor = trial.floor_of(cand.config)
     left = trial.departures(cand.score, floor)
-    if left.departs:
+    found = best_generic(trial, list(discovered))
+    if left.departs or (found is not None and clearly_better(trial, found, cand)):
         floor = floor.with_refits(refit_log_ratios(trial, cand))
         left = trial.departures(cand.score, floor)
     return left

@@ -14,7 +14,8 @@ Every word is a test of :mod:`.criteria` against the record's prediction floor:
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+import math
+from dataclasses import dataclass, replace
 
 from .candidates import Candidate
 from .criteria import (
@@ -60,13 +61,26 @@ class Finding:
     look_on_top: bool = False
 
 
-def clearly_better(trial: Trial, d: Candidate, c: Candidate) -> bool:
+def clearly_better(trial: Trial, d: Candidate, c: Candidate, left: Departures | None = None
+                   ) -> bool:
     """Correction ``d`` explains the held-out data clearly better than ``c``: its gain over
-    ``c`` is significant at the candidate level and of practical size."""
-    gain = explained_rms(c.score, d.score) / max(trial.floor.rms(), 1e-300)
+    ``c`` is significant at the candidate level and of practical size. ``left``: what ``c``
+    leaves against its own floor; where that floor holds the scatter of ``c``'s fit
+    (:mod:`.refit`), ``c``'s mean square is first taken down by that scatter's mean factor:
+    fitting a little better than the named effect's own fit lands is no sign of a better
+    correction (a generic constant torque beat a load torque fitted 4 % off)."""
+    ref = c.score
+    if left is not None and left.floor is not None:
+        ref = replace(ref, overall=ref.overall / math.sqrt(left.floor.refit_factor()))
+    gain = explained_rms(ref, d.score) / max(trial.floor.rms(), 1e-300)
     units = trial.data.independent
-    return (gain_p_value(c.score, d.score, d.n_params, units) <= trial.levels.candidate
+    return (gain_p_value(ref, d.score, d.n_params, units) <= trial.levels.candidate
             and gain >= trial.options.practical_size)
+
+
+def best_generic(trial: Trial, discovered: list[Candidate]) -> Candidate | None:
+    """The best generic correction that earns its place, if any."""
+    return next((d for d in discovered if earns_place(d, trial.options)), None)
 
 
 def best_named(trial: Trial, ranking: list[Candidate]) -> Candidate | None:
@@ -84,9 +98,9 @@ def needs_pair(trial: Trial, ranking: list[Candidate], discovered: list[Candidat
     first = best_named(trial, ranking)
     if first is None:
         return None
-    found = next((d for d in discovered if earns_place(d, trial.options)), None)
+    found = best_generic(trial, discovered)
     if not left.departs and not (
-            found is not None and clearly_better(trial, found, first)):
+            found is not None and clearly_better(trial, found, first, left)):
         return None
     # every other named effect: one the first has absorbed may not be certain alone
     others = tuple(c for c in ranking if c is not first)
@@ -141,9 +155,9 @@ def decide(trial: Trial, ranking: list[Candidate], discovered: list[Candidate],
     floor (``left``) and, where :func:`needs_pair` asked for it, the second named effect
     fitted on top of the first."""
     named = best_named(trial, ranking)
-    found = next((d for d in discovered if earns_place(d, trial.options)), None)
+    found = best_generic(trial, discovered)
     base = trial.departures(trial.base.score)
-    if named is not None and found is not None and clearly_better(trial, found, named):
+    if named is not None and found is not None and clearly_better(trial, found, named, left):
         both_fit = pair is not None and certain(pair.step, trial.options)
         if both_fit and not clearly_better(trial, found, pair.both):
             return _named(trial, named, ranking, left, pair, structured=True)
