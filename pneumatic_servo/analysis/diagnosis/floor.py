@@ -115,7 +115,8 @@ class Floor:
         logs = self.refits.get(channel or 'overall')
         if logs is None or not len(logs):
             return 0.0, 0.0
-        return max(float(np.mean(logs)), 0.0), float(np.var(logs, ddof=1)) if len(logs) > 1 else 0.0
+        variance = float(np.var(logs, ddof=1)) if len(logs) > 1 else 0.0
+        return max(float(np.mean(logs)), 0.0), variance
 
     def refit_factor(self, channel: str | None = None) -> float:
         """The factor by which refitting raises the mean square of ``channel`` (or pooled):

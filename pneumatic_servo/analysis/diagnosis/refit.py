@@ -8,11 +8,17 @@ floor without that scatter, a whole answer reads as a departure: a leak of 0.4 x
 size, fitted 8 % and 16 % off, left the angle 1.9 x its floor, while the true values left
 1.2 x.
 
-So where what an effect leaves departs, a parametric bootstrap with refit decides: whole
-replicas of the record (fitted and held-out parts) are simulated with the fitted model, the
-effect is screened and fitted on each exactly as on the record, and the held-out mean square
-of the refitted values is compared with that of the values the replica came from. The mean
-log ratio raises the floor and their variance widens it (:meth:`.floor.Floor.with_refits`).
+So where what an effect leaves departs, or a generic correction fits clearly better than
+the effect (:func:`.status.clearly_better` then asks for more than the fit's scatter), a
+parametric bootstrap with refit decides: whole replicas of the record (fitted and held-out
+parts) are simulated with the fitted model, the effect is screened and fitted on each
+exactly as on the record, and the held-out mean square of the refitted values is compared
+with that of the values the replica came from. The mean log ratio raises the floor and
+their variance widens it (:meth:`.floor.Floor.with_refits`).
+
+The bootstrap starts from the fitted values, and so cannot show a fit that stopped near its
+own start far from the truth: such a record stays ``unexplained``, with the effect listed
+as a partial fit (``docs/diagnosis.md``, the 0.7 x leak of the power study).
 """
 from __future__ import annotations
 

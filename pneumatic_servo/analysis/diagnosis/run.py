@@ -52,8 +52,8 @@ from .data import Data
 from .discovery import Discovered, discover
 from .hosts import shared_host
 from .ladder import ladder
-from .refit import remainder
 from .options import DiagnoseOptions
+from .refit import remainder
 from .result import Diagnosis, added_by
 from .scoring import relative_fall
 from .status import Pair, best_named, decide, needs_pair
