@@ -10,7 +10,7 @@ import pytest
 import yaml
 
 from pneumatic_servo.errors import ExperimentError
-from pneumatic_servo.io import read_experiment
+from pneumatic_servo.io import read_experiment, read_series
 from pneumatic_servo.io.bag import typestore, write_raw_bag
 
 STORAGES = ('sqlite3', 'mcap')
@@ -141,6 +141,22 @@ def test_duplicated_stamps(tmp_path, storage):
     path = _bag(tmp_path, storage, stamp=lambda topic, k: T0 + (k - 1 if (
         topic == 'joint_states' and k in (50, 90)) else k) * MS)
     expect(path, 'joint_states has 2 duplicated header stamp')
+
+
+@pytest.mark.parametrize('storage', STORAGES)
+def test_repeated_record_stamps_of_a_command(tmp_path, storage):
+    """A recorder on sim time stamps two commands that arrive within one clock tick alike (a
+    lockstep run). Resampled onto a grid they are ambiguous and refused, naming the fix; read
+    as they are (``read_series``: the replay, the demo's figures) they are kept in order."""
+    late = {T0 + k * MS + 1000 for k in (50, 90)}
+    msgs = [(topic, ty, rec - MS if topic == 'valve/command' and rec in late else rec, msg)
+            for topic, ty, rec, msg in servo_messages()]
+    path = write_raw_bag(tmp_path / f'ties_{storage}', msgs, storage)
+    expect(path, 'valve/command has 2 duplicated record stamp')
+    series, _ = read_series(path)
+    stamps, command = series['command_v']
+    assert len(stamps) == 300 and (np.diff(stamps) == 0).sum() == 2
+    assert command == pytest.approx([m.data for t, _, _, m in msgs if t == 'valve/command'])
 
 
 @pytest.mark.parametrize('storage', STORAGES)

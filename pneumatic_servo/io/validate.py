@@ -31,8 +31,10 @@ def check_finite(where: str, name: str, stamps_ns: np.ndarray, values: np.ndarra
 
 
 def check_stamps(where: str, topic: str, stamps_ns: np.ndarray, t0_ns: int,
-                 source: str) -> None:
-    """Raise if the stamps of ``topic`` go backwards or repeat."""
+                 source: str, ties: bool = False) -> None:
+    """Raise if the stamps of ``topic`` go backwards or repeat. ``ties``: record stamps may
+    repeat (messages kept in record order, never resampled): a recorder on sim time stamps
+    two messages that arrive within one clock tick alike."""
     if len(stamps_ns) < 2:
         return
     d = np.diff(stamps_ns)
@@ -43,7 +45,7 @@ def check_stamps(where: str, topic: str, stamps_ns: np.ndarray, t0_ns: int,
         raise ExperimentError(
             f'{where}: {topic} {source} stamps go backwards at {_at(stamps_ns, i, t0_ns)}, '
             f'by {-int(d[i - 1]) * 1e-9:.6f} s; {fix}')
-    if (d == 0).any():
+    if (d == 0).any() and not (ties and source == 'record'):
         n = int((d == 0).sum())
         i = int(np.argmax(d == 0)) + 1
         hint = ' (header.stamp never set?)' if n == len(d) else ''

@@ -106,24 +106,12 @@ def run_lockstep_session(controller: str, bag_dir, end_s: float = END_S, points=
 
 
 def read_run(bag_dir) -> dict:
-    """Arrays from a demo bag: angle at its stamps, commands at their record times."""
-    import numpy as np
-    from rosbags.highlevel import AnyReader
-    from rosbags.typesys import Stores, get_typestore
-    t, y, tc, u = [], [], [], []
-    with AnyReader([Path(bag_dir)], default_typestore=get_typestore(Stores.ROS2_JAZZY)) as r:
-        conns = [c for c in r.connections if c.topic in ('/joint_states', '/valve/command')]
-        for conn, t_rec, raw in r.messages(connections=conns):
-            msg = r.deserialize(raw, conn.msgtype)
-            if conn.topic == '/joint_states':
-                t.append(msg.header.stamp.sec + msg.header.stamp.nanosec * 1e-9)
-                y.append(msg.position[0])
-            else:
-                tc.append(t_rec * 1e-9)
-                u.append(msg.data)
-    order = np.argsort(t)
-    return {'t': np.asarray(t)[order], 'angle': np.asarray(y)[order], 't_cmd': np.asarray(tc),
-            'command': np.asarray(u)}
+    """Arrays from a demo bag (:func:`pneumatic_servo.io.read_series`): the angle at its
+    header stamps, the commands at their record times [s]."""
+    from ..io import read_series
+    series, _ = read_series(bag_dir)
+    (t, angle), (t_cmd, command) = series['angle_rad'], series['command_v']
+    return {'t': t * 1e-9, 'angle': angle, 't_cmd': t_cmd * 1e-9, 'command': command}
 
 
 def figures(run: dict, points=None) -> dict:

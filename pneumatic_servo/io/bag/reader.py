@@ -259,8 +259,10 @@ def _decode(where: str, t: _Topic, header: bool, picker, missing: set[str]) -> N
 def _check(where: str, series: dict[str, Series], time_source: str, t_ref: int | None,
            max_gap_s: float | None = None, gaps: bool = True) -> dict[str, np.ndarray]:
     """Every series fit for use: finite values, stamps that only go forward and, where
-    samples will be interpolated (``gaps``), no gap; times in the messages from ``t_ref``
-    [ns] (None: each series' first stamp). Returns the stamps of each topic."""
+    samples will be resampled (``gaps``), no gap and no repeated stamp (without resampling,
+    record stamps may repeat: :func:`~pneumatic_servo.io.validate.check_stamps`); times in the
+    messages from ``t_ref`` [ns] (None: each series' first stamp). Returns the stamps of each
+    topic."""
     by_topic: dict[str, np.ndarray] = {}
     for sig, s in series.items():
         stamps, values = s.arrays()
@@ -269,7 +271,7 @@ def _check(where: str, series: dict[str, Series], time_source: str, t_ref: int |
         validate.check_finite(where, f'{topic} ({sig})', stamps, values, t0)
         if topic not in by_topic:
             validate.check_stamps(where, topic, stamps, t0, time_source
-                                  if TOPICS[topic].stamped else 'record')
+                                  if TOPICS[topic].stamped else 'record', ties=not gaps)
             if gaps:
                 validate.check_gaps(where, topic, stamps, t0, max_gap_s)
             by_topic[topic] = stamps
