@@ -3,14 +3,16 @@
 Recordings per minute of ``fleet`` for compare (verify) and for ``--track`` with 1 and 2
 local workers, on a generated fleet (warm kernel cache, as a second run has), and the
 speed-up of 2 workers over 1 (target >= 1.7x on this 2-core machine); peak memory per
-worker. (A single ``simulate``, cold and warm, and where its time goes:
-``bench_simulate.py``.)
+worker. With ``--diagnose N``: ``fleet --diagnose`` on N recordings of 20 s at 1 kHz with one
+worker, in recordings per hour per worker (target >= 100). (A single ``simulate``, cold and
+warm, and where its time goes: ``bench_simulate.py``.)
 
-Usage: ``python benchmarks/bench_fleet.py [--rigs 4] [--days 10]``
+Usage: ``python benchmarks/bench_fleet.py [--rigs 4] [--days 10] [--diagnose N]``
 """
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 import tempfile
 import time
@@ -20,7 +22,8 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 
-def throughput(fleet: Path, work: Path, workers: int, track: bool) -> tuple[float, float]:
+def throughput(fleet: Path, work: Path, workers: int, track: bool, diagnose: bool = False
+               ) -> tuple[float, float]:
     """(recordings per minute, peak RSS per worker [MB]) of one run with an empty store, on
     a local cluster started (and warmed up) before the clock starts, as a standing one is."""
     from distributed import Client, LocalCluster
@@ -31,7 +34,7 @@ def throughput(fleet: Path, work: Path, workers: int, track: bool) -> tuple[floa
     from pneumatic_servo.synth.fleet import FRICTION_KEY
     recs = find_recordings([fleet])
     task = TaskOptions(track=('piston_seal_leakage',) if track else (),
-                       free=(FRICTION_KEY,) if track else ())
+                       free=(FRICTION_KEY,) if track else (), diagnose=diagnose)
     with LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
                       dashboard_address=None, env=WORKER_ENV) as cluster:
         address = cluster.scheduler_address
@@ -40,22 +43,29 @@ def throughput(fleet: Path, work: Path, workers: int, track: bool) -> tuple[floa
             return FleetOptions(work / f'{name}_{workers}_{track}.jsonl', address, None,
                                 False, task)
         # every worker loads its kernels once, as the workers of a standing cluster have
-        run_fleet(recs[:2 * workers], ModelConfig.paper(), options('warm'))
+        warm = recs[:workers if diagnose else 2 * workers]
+        run_fleet(warm, ModelConfig.paper(), options('warm'))
+        timed = recs[len(warm):] if diagnose else recs
         t0 = time.perf_counter()
-        run_fleet(recs, ModelConfig.paper(), options('rows'))
+        run_fleet(timed, ModelConfig.paper(), options('rows'))
         minutes = (time.perf_counter() - t0) / 60
         with Client(address) as client:
             rss = client.run(lambda: __import__('resource').getrusage(
                 __import__('resource').RUSAGE_SELF).ru_maxrss / 1024)
-    return len(recs) / minutes, max(rss.values())
+    return len(timed) / minutes, max(rss.values())
 
 
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument('--rigs', type=int, default=4)
     parser.add_argument('--days', type=int, default=10)
+    parser.add_argument('--diagnose', type=int, default=0, metavar='N',
+                        help='only fleet --diagnose on N recordings of 20 s at 1 kHz')
     args = parser.parse_args(argv)
     from pneumatic_servo.synth.fleet import FleetDesign, write_fleet
+    print(f'load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores')
+    if args.diagnose:
+        return diagnose_throughput(args.diagnose)
     with tempfile.TemporaryDirectory() as tmp:
         work = Path(tmp)
         fleet = write_fleet(work / 'fleet', FleetDesign(rigs=args.rigs, days=args.days,
@@ -69,6 +79,22 @@ def main(argv=None) -> int:
                       f'{workers} worker(s): {rates[workers]:.1f} recordings/min; peak '
                       f'worker RSS {rss:.0f} MB')
             print(f'  2 workers / 1 worker: {rates[2] / rates[1]:.2f}x (target >= 1.7x)')
+    return 0
+
+
+def diagnose_throughput(count: int) -> int:
+    """``fleet --diagnose`` with one worker on ``count`` recordings of 20 s at 1 kHz (one more
+    warms the worker up first)."""
+    from pneumatic_servo.synth.fleet import FleetDesign, write_fleet
+    with tempfile.TemporaryDirectory() as tmp:
+        work = Path(tmp)
+        design = FleetDesign(rigs=count + 1, days=1, duration_s=20.0, rate_hz=1000.0,
+                             broken=('none', -1))
+        fleet = write_fleet(work / 'fleet', design)
+        per_min, rss = throughput(fleet, work, 1, False, diagnose=True)
+    print(f'fleet --diagnose, {count} recordings of 20 s at 1 kHz, 1 worker: '
+          f'{60 * per_min:.0f} recordings/hour/worker (target >= 100); peak worker RSS '
+          f'{rss:.0f} MB; load average {os.getloadavg()[0]:.1f}')
     return 0
 
 

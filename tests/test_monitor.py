@@ -140,7 +140,7 @@ def test_commands_are_paired_by_when_they_were_published_not_when_they_came():
         mon = Monitor(ModelConfig.paper(), period_s=1e-3)
         wall = stamps + jitter * (np.arange(len(stamps)) % 2)  # wall-clock stamps jitter
         mon.add(wall, {k: v for k, v in cols.items() if k != 'angle_rad'})
-        assert np.isfinite(mon.cols['command_alt_v'][1:]).any() == kept
+        assert np.isfinite(mon.grid.cols['command_alt_v'][1:]).any() == kept
 
 
 def test_a_resent_sample_a_lost_joint_state_and_a_late_command():

@@ -1,7 +1,7 @@
 """The monitor's core: live samples in; judged windows, reports and fit requests out. Pure.
 
-:class:`Monitor` keeps a sliding buffer of samples on a uniform grid (a lost sample is a
-gap; a stamp that goes back, or a gap over a second, starts the buffer afresh), cuts it
+:class:`Monitor` keeps a sliding buffer of samples on a uniform grid (:mod:`.grid`: a lost
+sample is a gap; a stamp that goes back, or a gap over a second, starts it afresh), cuts it
 into k-step windows of ``horizon_s``, and judges each against its own floor
 (:func:`.judge.judge_windows`), a few windows per call so that a caller can interleave
 other work. Per channel a CUSUM (:mod:`.cusum`) turns the windows' p-values into a verdict
@@ -18,29 +18,21 @@ Units: stamps in integer nanoseconds, everything else SI.
 """
 from __future__ import annotations
 
-import collections
 import math
-from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..analysis.regimes import FAMILIES, RegimeShare, hot_spots, segment
+from ..analysis.regimes import segment
 from ..errors import PneumaticServoError
 from ..experiment import Experiment
 from ..model.assembly import Model
 from ..model.config import ModelConfig
 from . import cusum
-from .judge import CHANNELS, OPTIONAL, REQUIRED, UNITS, Sensors, judge_windows
+from .channel import ChannelState
+from .grid import SIGNALS, SampleGrid
+from .judge import CHANNELS, OPTIONAL, REQUIRED, Sensors, judge_windows
 from .options import MonitorOptions
 
-#: every signal the buffer holds (``command_alt_v``: the command the plant may have applied
-#: instead, where the pairing is uncertain; :mod:`.assemble`)
-SIGNALS = REQUIRED + OPTIONAL + ('command_alt_v',)
-#: a gap in the stamps longer than this [s] starts the buffer afresh (a new run)
-MAX_GAP_S = 1.0
-#: a gap in the stamps longer than this many periods is a gap in the data (see
-#: :meth:`Monitor._index`)
-GAP_PERIODS = 10
 #: samples whose stamps establish the sample period when no rate is given
 PERIOD_SAMPLES = 200
 LEVELS = ('ok', 'warn', 'error')
@@ -52,14 +44,6 @@ def clean_period(dt: float) -> float:
     rate = 1.0 / dt
     tens = 10.0 * round(rate / 10.0)
     return 1.0 / tens if tens >= 10 and abs(rate - tens) <= 0.01 * rate else dt
-
-
-@dataclass
-class _Channel:
-    cusum: cusum.Cusum
-    since_ns: int | None = None
-    #: recent judged windows: (start index, stamp ns, mean square, floor mean square, p)
-    recent: collections.deque = field(default_factory=collections.deque)
 
 
 class Monitor:
@@ -91,13 +75,15 @@ class Monitor:
         self.floor_source = 'file' if sensors is not None else 'baseline'
         self.dt = period_s
         self.rng = np.random.default_rng(self.options.seed)
-        self.channels = {ch: _Channel(cusum.Cusum(0.0)) for ch in CHANNELS}
+        self.channels = {ch: ChannelState(cusum.Cusum(0.0)) for ch in CHANNELS}
         self._pending_t: list = []
         self._pending_cols: list = []
         self.counts = {'samples': 0, 'lost': 0, 'restarts': 0, 'judged': 0, 'skipped': 0,
                        'incomplete': 0, 'failed': 0}
         self.last_error = ''
-        self._reset_buffer()
+        self.grid = SampleGrid()
+        self.next_start = None
+        self.baseline_end = None
         self._last_report_ns = None
         self._next_fit = None
         self._fits = 0
@@ -126,7 +112,6 @@ class Monitor:
     def _set_period(self, dt: float) -> None:
         o = self.options
         self.dt = float(dt)
-        self.dt_ns = int(round(self.dt * 1e9))
         self.win = max(2, int(round(o.horizon_s / self.dt)) + 1)
         self.lead = int(round(o.lead_s / self.dt))
         self.windows_per_hour = 3600.0 / ((self.win - 1) * self.dt)
@@ -140,22 +125,18 @@ class Monitor:
                                  f'{1 / self.dt:g} Hz)')
             self.sensors = None
         keep_s = max(o.recent_s, o.fit_window_s, 1.5 * o.baseline_s) + o.max_backlog_s + 1.0
-        self.keep = int(round(keep_s / self.dt)) + 2 * self.lead + self.win
+        self.grid.dt_ns = int(round(self.dt * 1e9))
+        self.grid.keep = int(round(keep_s / self.dt)) + 2 * self.lead + self.win
 
     @property
     def h(self) -> float:
         return self.channels['angle'].cusum.h
 
-    def _reset_buffer(self) -> None:
-        self.base = 0 if not hasattr(self, 'end') else self.end  # abs index of buffer[0]
-        self.end = self.base                                     # abs index after the last
-        self.epoch = self.base
-        self.t_ns = np.zeros(0, np.int64)
-        self.cols = {s: np.zeros(0) for s in SIGNALS}
-        self.last_ns = None
+    def _restart(self) -> None:
+        """A new run: an empty grid, nothing judged or measured on it yet."""
+        self.grid = self.grid.restarted()
         self.next_start = None
         self.baseline_end = None
-        self._last_index = self._last_t = None
 
     # ------------------------------------------------------------------ samples
     def add(self, stamps_ns, columns: dict) -> None:
@@ -185,86 +166,38 @@ class Monitor:
         self._append(stamps, cols)
 
     def _append(self, stamps: np.ndarray, cols: dict) -> None:
-        """Place samples on the grid (see :meth:`_index`); a new run where time goes back or
-        jumps by more than :data:`MAX_GAP_S`."""
+        """Place samples on the grid (:meth:`.grid.SampleGrid.index`); a new run where time
+        goes back or jumps by more than :data:`.grid.MAX_GAP_S`."""
         # samples on an exact grid (lockstep sim time, a replay) were paired exactly
-        prev = stamps[0] - self.dt_ns if self._last_t is None else self._last_t
-        exact = np.diff(np.concatenate([[prev], stamps])) % self.dt_ns == 0
         cols = dict(cols)
-        cols['command_alt_v'] = np.where(exact, np.nan, cols['command_alt_v'])
+        cols['command_alt_v'] = np.where(self.grid.on_grid(stamps), np.nan,
+                                         cols['command_alt_v'])
         index = np.empty(len(stamps), np.int64)
         cut = 0
         for i, t in enumerate(stamps.tolist()):
-            k = self._index(t)
+            k = self.grid.index(t)
             if k is None:
                 if i > cut:
                     self._place(stamps[cut:i], {s: v[cut:i] for s, v in cols.items()},
                                 index[cut:i])
                 self.counts['restarts'] += 1
-                self._reset_buffer()
+                self._restart()
                 cut = i
-                k = self._index(t)
+                k = self.grid.index(t)
             index[i] = k
         if len(stamps) > cut:
             self._place(stamps[cut:], {s: v[cut:] for s, v in cols.items()}, index[cut:])
-        self._trim()
-
-    def _index(self, t: int) -> int | None:
-        """The grid index of a sample stamped ``t`` [ns], or None for a new run.
-
-        Samples come in stamp order, one per plant step, and a free-running plant stamps a
-        sample when its tick ran, which under load is late by a period or more now and
-        then; the samples are consecutive steps all the same. So a sample is the next on
-        the grid unless its stamp is more than :data:`GAP_PERIODS` periods after the last
-        (the plant stood still, or the monitor lost everything for a while: a gap of that
-        many periods). A sample lost alone shows as a sample without its joint state (its
-        pressures arrived), from the assembler.
-        """
-        if self._last_t is None:
-            self._last_index, self._last_t = self.end, t
-            return self.end
-        gap = t - self._last_t
-        if gap <= 0 or gap > MAX_GAP_S * 1e9:
-            return None
-        k = self._last_index + (1 if gap <= GAP_PERIODS * self.dt_ns
-                                else int(round(gap / self.dt_ns)))
-        self._last_index, self._last_t = k, t
-        return k
+        self.grid.trim()
 
     def _place(self, stamps, cols, index) -> None:
-        pos = index - self.end  # relative to the buffer's end
-        size = int(pos[-1]) + 1
-        self.counts['lost'] += size - len(stamps)
-        t = np.full(size, -1, np.int64)
-        t[pos] = stamps
-        self.t_ns = np.concatenate([self.t_ns, t])
-        for s in SIGNALS:
-            block = np.full(size, np.nan)
-            block[pos] = cols[s]
-            self.cols[s] = np.concatenate([self.cols[s], block])
-        self.end += size
-        self.last_ns = int(stamps[-1])
+        self.counts['lost'] += self.grid.place(stamps, cols, index)
         if self.next_start is None:
-            self.next_start = self.epoch + 2 * self.lead
-
-    def _trim(self) -> None:
-        extra = len(self.t_ns) - self.keep
-        if extra > 0:
-            self.t_ns = self.t_ns[extra:]
-            self.cols = {s: v[extra:] for s, v in self.cols.items()}
-            self.base += extra
-
-    def _rows(self, a: int, b: int) -> slice:
-        return slice(a - self.base, b - self.base)
-
-    def _complete(self, a: int, b: int, signals=REQUIRED) -> bool:
-        rows = self._rows(a, b)
-        return all(np.all(np.isfinite(self.cols[s][rows])) for s in signals)
+            self.next_start = self.grid.epoch + 2 * self.lead
 
     # ----------------------------------------------------------------- baseline
     @property
     def state(self) -> str:
-        if self.dt is None or self.last_ns is None:
+        if self.dt is None or self.grid.last_ns is None:
             return 'waiting for data'
         if self.sensors is None:
             return 'baseline'
@@ -275,27 +208,28 @@ class Monitor:
         buffer's run (the latest ones, gaps allowed); True when they were just measured."""
         if self.sensors is not None or self.dt is None:
             return False
+        g = self.grid
         need = int(round(self.options.baseline_s / self.dt))
-        start = max(self.epoch, self.base)
-        if self.end - start < need:
+        start = max(g.epoch, g.base)
+        if g.end - start < need:
             return False
-        rows = self._rows(start, self.end)
-        ok = np.flatnonzero(np.all([np.isfinite(self.cols[s][rows]) for s in REQUIRED],
+        rows = g.rows(start, g.end)
+        ok = np.flatnonzero(np.all([np.isfinite(g.cols[s][rows]) for s in REQUIRED],
                                    axis=0))
         if len(ok) < need:  # samples missing (a monitor that cannot keep up): wait for more
             return False
         ok = ok[-need:]
-        self.sensors = Sensors.measure({s: self.cols[s][rows][ok] for s in CHANNELS.values()})
-        self.baseline_end = self.end
-        self._baseline_info = {'start_ns': int(self.t_ns[rows][ok[0]]),
+        self.sensors = Sensors.measure({s: g.cols[s][rows][ok] for s in CHANNELS.values()})
+        self.baseline_end = g.end
+        self._baseline_info = {'start_ns': int(g.t_ns[rows][ok[0]]),
                                'seconds': float(need * self.dt), 'samples': int(len(ok))}
-        self._next_fit = self.end  # the first tracked fit: the baseline itself
+        self._next_fit = g.end  # the first tracked fit: the baseline itself
         # judging starts with the baseline's latest windows (those the backlog allows): the
         # older ones were data for the floor, not windows the monitor fell behind on
         step = self.win - 1
         keep = (self._backlog_windows() - 1) * step
-        if self.next_start is not None and self.end - self.win - keep > self.next_start:
-            self.next_start += (self.end - self.win - keep - self.next_start) // step * step
+        if self.next_start is not None and g.end - self.win - keep > self.next_start:
+            self.next_start += (g.end - self.win - keep - self.next_start) // step * step
         return True
 
     def _backlog_windows(self) -> int:
@@ -307,7 +241,7 @@ class Monitor:
         if self.next_start is None or self.sensors is None:
             return []
         step = self.win - 1
-        last = self.end - self.win
+        last = self.grid.end - self.win
         if last < self.next_start:
             return []
         return list(range(self.next_start, last + 1, step))
@@ -329,16 +263,16 @@ class Monitor:
             starts = starts[len(skipped):]
         batch = starts[:self.options.batch_windows]
         self.next_start = batch[-1] + self.win - 1
-        good = [a for a in batch if self._complete(a - 2 * self.lead, a + self.win)]
+        good = [a for a in batch if self.grid.complete(a - 2 * self.lead, a + self.win)]
         self.counts['incomplete'] += len(batch) - len(good)
         if not good:
             return out
         lo, hi = good[0] - 2 * self.lead, good[-1] + self.win
-        rows = self._rows(lo, hi)
-        signals = {s: self.cols[s][rows] for s in REQUIRED + ('command_alt_v',)}
+        rows = self.grid.rows(lo, hi)
+        signals = {s: self.grid.cols[s][rows] for s in REQUIRED + ('command_alt_v',)}
         for s in OPTIONAL:
-            if all(self._complete(a - 2 * self.lead, a + self.win, (s,)) for a in good):
-                signals[s] = self.cols[s][rows]
+            if all(self.grid.complete(a - 2 * self.lead, a + self.win, (s,)) for a in good):
+                signals[s] = self.grid.cols[s][rows]
         try:
             judged = judge_windows(self.model, self.config, signals, [a - lo for a in good],
                                    self.win, self.lead, self.dt, self.sensors,
@@ -350,7 +284,7 @@ class Monitor:
         self.counts['judged'] += len(good)
         departing_before = self.departing
         for a, w, (idx, pred) in zip(good, judged.windows, judged.predictions):
-            t0 = int(self.t_ns[a - self.base])
+            t0 = int(self.grid.t_ns[a - self.grid.base])
             for ch, c in self.channels.items():
                 z = cusum.probit(w.p_value[ch])
                 if c.cusum.update(z):
@@ -360,8 +294,9 @@ class Monitor:
                     c.since_ns = None
                 c.recent.append((a, t0, w.mean_square[ch], w.floor_mean_square[ch],
                                  w.p_value[ch], z))
-                self._forget(c)
-            stamps = self.t_ns[self._rows(a, a + self.win)]
+                c.forget(self.grid.base + 2 * self.lead,
+                         int(round(self.options.recent_s / self.dt)))
+            stamps = self.grid.t_ns[self.grid.rows(a, a + self.win)]
             out['windows'].append(w)
             out['predictions'].append((stamps.copy(), {ch: v.copy() for ch, v in pred.items()}))
         if not self.floor_rms:
@@ -370,14 +305,8 @@ class Monitor:
         if out['alarms'] and self.options.track and self._fits and not departing_before:
             # a departure starts: fit once a whole fit window lies after it (a window
             # across the change would give a value between the two)
-            self._next_fit = self.end + int(round(self.options.fit_window_s / self.dt))
+            self._next_fit = self.grid.end + int(round(self.options.fit_window_s / self.dt))
         return out
-
-    def _forget(self, c: _Channel) -> None:
-        horizon = int(round(self.options.recent_s / self.dt))
-        while c.recent and (c.recent[0][0] < self.base + 2 * self.lead
-                            or c.recent[-1][0] - c.recent[0][0] > horizon):
-            c.recent.popleft()
 
     def _recent_floor_rms(self) -> dict:
         eps = {ch: self.sensors.reading_variance(ch) for ch in CHANNELS}
@@ -406,11 +335,12 @@ class Monitor:
         channels = {}
         shares = self._regime_shares() if regimes else {}
         for ch, c in self.channels.items():
-            channels[ch] = self._channel_report(ch, c, shares.get(ch))
+            channels[ch] = c.report(ch, self.sensors, o, getattr(self, 'windows_per_hour', 0.0),
+                                    shares.get(ch), self._waiting())
         judged, skipped = self.counts['judged'], self.counts['skipped']
         seen = judged + skipped + self.counts['incomplete'] + self.counts['failed']
         return {
-            't_ns': self.last_judged_ns or self.last_ns or 0,
+            't_ns': self.last_judged_ns or self.grid.last_ns or 0,
             'state': self.state,
             'channels': channels,
             'counts': dict(self.counts),
@@ -428,53 +358,11 @@ class Monitor:
         }
 
     def _baseline_left(self) -> float:
-        if self.sensors is not None or self.dt is None or self.last_ns is None:
+        if self.sensors is not None or self.dt is None or self.grid.last_ns is None:
             return 0.0 if self.sensors is not None else self.options.baseline_s
-        rows = self._rows(max(self.epoch, self.base), self.end)
-        have = int(np.all([np.isfinite(self.cols[s][rows]) for s in REQUIRED], axis=0).sum())
+        rows = self.grid.rows(max(self.grid.epoch, self.grid.base), self.grid.end)
+        have = int(np.all([np.isfinite(self.grid.cols[s][rows]) for s in REQUIRED], axis=0).sum())
         return max(self.options.baseline_s - have * self.dt, 0.0)
-
-    def _channel_report(self, ch: str, c: _Channel, hot: dict | None) -> dict:
-        o = self.options
-        unit = UNITS[ch]
-        if not c.recent:
-            return {'level': 'ok', 'windows': 0, 'ratio': float('nan'), 'rms': float('nan'),
-                    'floor_rms': float('nan'), 'cusum': c.cusum.s, 'threshold': c.cusum.h,
-                    'p_value': 1.0, 'window_p_value': float('nan'), 'z': float('nan'),
-                    'since_ns': None, 'regime': '', 'unit': unit, 'alarms': c.cusum.alarms,
-                    'message': self._waiting()}
-        ms = np.array([r[2] for r in c.recent])
-        fms = np.array([r[3] for r in c.recent])
-        eps = self.sensors.reading_variance(ch)
-        ratio = float(math.sqrt(ms.sum() / fms.sum())) if fms.sum() > 0 else float('inf')
-        p = cusum.p_value(c.cusum.s, self.windows_per_hour)
-        level = 'ok'
-        if c.cusum.alarm:
-            level = 'error' if ratio >= o.error_ratio else 'warn'
-        regime = ''
-        if hot is not None:
-            regime = (f'{hot["family"]} {hot["regime"]} ({hot["error_share"]:.0%} of the '
-                      f'departure in {hot["time_share"]:.0%} of the time)')
-        rms = math.sqrt(max(float(ms.mean()) - eps, 0.0))
-        floor_rms = math.sqrt(max(float(fms.mean()) - eps, 0.0))
-        if level == 'ok':
-            message = (f'{ratio:.2g} x the floor over the last {self.options.recent_s:g} s '
-                       f'(CUSUM {c.cusum.s:.3g} < {c.cusum.h:.3g}, p = {p:.2g} per hour)')
-        else:
-            message = (f'departs: {ratio:.3g} x the floor (CUSUM {c.cusum.s:.3g} >= '
-                       f'{c.cusum.h:.3g}, p = {p:.2g} per hour, level {self._level_c():.2g})')
-            if level == 'error':
-                message += f'; at least {o.error_ratio:g} x: the model is not to be trusted here'
-            if regime:
-                message += f'; concentrated in {regime}'
-        return {'level': level, 'windows': len(c.recent), 'ratio': ratio, 'rms': rms,
-                'floor_rms': floor_rms, 'cusum': c.cusum.s, 'threshold': c.cusum.h,
-                'p_value': p, 'window_p_value': float(c.recent[-1][4]),
-                'z': float(c.recent[-1][5]), 'since_ns': c.since_ns, 'regime': regime,
-                'unit': unit, 'alarms': c.cusum.alarms, 'message': message}
-
-    def _level_c(self) -> float:
-        return self.options.false_alarm_per_hour / len(CHANNELS)
 
     def _waiting(self) -> str:
         if self.state == 'waiting for data':
@@ -491,40 +379,20 @@ class Monitor:
         c0 = self.channels['angle']
         if not c0.recent or self.sensors is None:
             return {}
-        starts = [r[0] for r in c0.recent if r[0] - 2 * self.lead >= self.base]
+        starts = [r[0] for r in c0.recent if r[0] - 2 * self.lead >= self.grid.base]
         if not starts:
             return {}
         lo, hi = starts[0], starts[-1] + self.win
-        rows = self._rows(lo, hi)
+        rows = self.grid.rows(lo, hi)
         need = ('command_v', 'angle_rad', 'p_a_pa', 'p_b_pa')
-        if not all(np.all(np.isfinite(self.cols[s][rows])) for s in need):
+        if not all(np.all(np.isfinite(self.grid.cols[s][rows])) for s in need):
             return {}
-        signals = {s: self.cols[s][rows] for s in need}
-        if np.all(np.isfinite(self.cols['supply_pa'][rows])):
-            signals['supply_pa'] = self.cols['supply_pa'][rows]
+        signals = {s: self.grid.cols[s][rows] for s in need}
+        if np.all(np.isfinite(self.grid.cols['supply_pa'][rows])):
+            signals['supply_pa'] = self.grid.cols['supply_pa'][rows]
         exp = Experiment(np.arange(hi - lo) * self.dt, signals, 'servo', 'monitor')
         labels = segment(exp, None, self.config)
-        return {ch: self._hot(ch, c, labels, lo, hi) for ch, c in self.channels.items()}
-
-    def _hot(self, ch: str, c: _Channel, labels: dict, lo: int, hi: int):
-        weight = np.zeros(hi - lo)
-        mask = np.zeros(hi - lo, bool)
-        for a, _, ms, fms, _, _ in c.recent:
-            if a < lo:
-                continue
-            # the window's departure spread evenly over its samples, in units of its floor
-            weight[a - lo + 1:a - lo + self.win] = ms / max(fms, 1e-300)
-            mask[a - lo + 1:a - lo + self.win] = True
-        if not mask.any() or weight[mask].sum() <= 0:
-            return None
-        shares = []
-        for fam, lab in labels.items():
-            for cls in FAMILIES[fam]:
-                m = (lab == cls) & mask
-                shares.append(RegimeShare(fam, cls, m.sum() / mask.sum(),
-                                          {ch: weight[m].sum() / weight[mask].sum()}))
-        spots = hot_spots(shares)
-        return spots[0] if spots else None
+        return {ch: c.hot_spot(ch, labels, lo, hi, self.win) for ch, c in self.channels.items()}
 
     # ----------------------------------------------------------- tracked fits
     @property
@@ -541,13 +409,14 @@ class Monitor:
         o = self.options
         if not o.track or self.sensors is None or self._next_fit is None:
             return None
-        if self.end < self._next_fit or not (self._fits == 0 or self.departing):
+        g = self.grid
+        if g.end < self._next_fit or not (self._fits == 0 or self.departing):
             return None
         n = int(round(o.fit_window_s / self.dt))
-        hi = self.end
-        lo = max(hi - n, self.base, self.epoch)
-        rows = self._rows(lo, hi)
-        ok = np.all([np.isfinite(self.cols[s][rows]) for s in REQUIRED], axis=0)
+        hi = g.end
+        lo = max(hi - n, g.base, g.epoch)
+        rows = g.rows(lo, hi)
+        ok = np.all([np.isfinite(g.cols[s][rows]) for s in REQUIRED], axis=0)
         # the longest complete stretch at the end
         bad = np.flatnonzero(~ok)
         first = lo + (bad[-1] + 1 if len(bad) else 0)
@@ -555,12 +424,12 @@ class Monitor:
             return None
         self._fits += 1
         self._next_fit = hi + int(round(o.fit_period_s / self.dt))
-        rows = self._rows(first, hi)
-        signals = {s: self.cols[s][rows].copy() for s in REQUIRED}
+        rows = g.rows(first, hi)
+        signals = {s: g.cols[s][rows].copy() for s in REQUIRED}
         for s in OPTIONAL:
-            if np.all(np.isfinite(self.cols[s][rows])):
-                signals[s] = self.cols[s][rows].copy()
-        return {'t_ns': int(self.t_ns[hi - 1 - self.base]), 'dt': self.dt, 'signals': signals}
+            if np.all(np.isfinite(g.cols[s][rows])):
+                signals[s] = g.cols[s][rows].copy()
+        return {'t_ns': int(g.t_ns[hi - 1 - g.base]), 'dt': self.dt, 'signals': signals}
 
     # ------------------------------------------------------------------ floor
     def floor_data(self) -> dict:
