@@ -89,9 +89,10 @@ def _refit_note(tests: dict) -> list[str]:
         return []
     factors = ', '.join(f'{html.escape(ch)} {f:.2f}' for ch, f in floor['refit_inflation'].items())
     return [f'<p class="note">What the best named effect leaves departed from its own floor, '
-            f'so its fit was repeated on {floor["refits"]} whole replicas of these records: '
-            'its fitted values scatter, and that scatter is part of what a correct answer '
-            f'leaves. The floor\'s mean squares were raised by {factors}.</p>']
+            'or a generic correction fitted better than it, so its fit was repeated on '
+            f'{floor["refits"]} whole replicas of these records: its fitted values scatter, '
+            'and that scatter is part of what a correct answer leaves (and what a generic '
+            f'correction must beat). The floor\'s mean squares were raised by {factors}.</p>']
 
 
 def _next_steps(result: Diagnosis, applied_to: str | None, emitted_to: str | None) -> str:
