@@ -26,6 +26,7 @@ import math
 
 import numpy as np
 
+from ...errors import SimulationError
 from ...model.assembly import Model
 from .candidates import Candidate, screen_effect, try_effect
 from .criteria import Departures
@@ -48,7 +49,11 @@ def refit_log_ratios(trial, cand: Candidate, count: int = REFITS) -> dict[str, n
     for _ in range(count):
         data = replica_data(model, host, trial.data, rng)
         screen = screen_effect(cand.effect, trial.base, data)
-        refitted = try_effect(screen, trial.base, data, list(trial.free), trial.options).score
+        try:
+            refitted = try_effect(screen, trial.base, data, list(trial.free),
+                                  trial.options).score
+        except SimulationError:
+            continue  # a replica the effect cannot be simulated on adds no scatter
         truth = score_many(model, data, [host])[0]
         for ch in (*truth.channels, None):
             ratio = refitted.mean_square(ch) / max(truth.mean_square(ch), 1e-300)
