@@ -37,7 +37,7 @@ def add_parser(sub) -> argparse.ArgumentParser:
 def monitor_overrides(args) -> dict:
     """Monitor parameter values from the options (validated: ConfigError names a bad one)."""
     from ..errors import ConfigError
-    from ..ros.monitor_node import MONITOR_SPECS
+    from ..ros.monitor_specs import MONITOR_SPECS
     values = MONITOR_SPECS.parse_assignments(args.monitor_set)
     for opt, name in (('config', 'model_config'), ('floor', 'floor_file'),
                       ('baseline', 'baseline_s'), ('track', 'track')):

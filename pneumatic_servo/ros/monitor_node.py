@@ -8,11 +8,12 @@ when published, and ``valve/command``. It publishes nothing a plant or a control
 * ``model/joint_states``, ``model/chamber_a/pressure``, ``model/chamber_b/pressure``: what
   the model predicted, k-step from the measured state, stamped like the measurements it
   predicts (overlay them in a plot);
-* ``monitor/residuals`` (std_msgs/Float64MultiArray, layout in :data:`RESIDUAL_FIELDS`):
-  per channel the departure in units of the floor, the RMS residual and floor, the CUSUM,
-  its threshold and p-value;
-* ``monitor/effects`` (std_msgs/Float64MultiArray, :data:`EFFECT_FIELDS`): the tracked
-  effects' estimates with standard errors;
+* ``monitor/residuals`` (std_msgs/Float64MultiArray, columns
+  :data:`.monitor_messages.RESIDUAL_FIELDS`): per channel the departure in units of the
+  floor, the RMS residual and floor, the CUSUM, its threshold and p-value;
+* ``monitor/effects`` (std_msgs/Float64MultiArray, columns
+  :data:`.monitor_messages.EFFECT_FIELDS`): the tracked effects' estimates with standard
+  errors;
 * ``/diagnostics``: ``<node>: monitor`` (the monitor itself), ``<node>: monitor angle|p_a|p_b``
   (OK / WARN / ERROR per channel, with the departure, the regime and the p-value) and
   ``<node>: monitor <effect.parameter>`` (WARN when it trends), hardware_id ``monitor``.
@@ -27,15 +28,15 @@ from __future__ import annotations
 import math
 import time
 
-from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus, KeyValue
+from diagnostic_msgs.msg import DiagnosticArray, DiagnosticStatus
 from rclpy.lifecycle import LifecycleNode, LifecycleState, TransitionCallbackReturn
 from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy
 from sensor_msgs.msg import FluidPressure, JointState, Temperature
-from std_msgs.msg import Float64, Float64MultiArray, MultiArrayDimension
+from std_msgs.msg import Float64, Float64MultiArray
 
-from ..control.params import Spec, SpecSet
 from ..errors import ConfigError, PneumaticServoError
-from . import cdr, common, private
+from . import cdr, common, monitor_messages as messages, private
+from .monitor_specs import MONITOR_SPECS, track_names
 
 monotonic = time.monotonic
 #: the monitor's topics (relative: a namespace moves them with the rig's; ros/common.py)
@@ -44,12 +45,6 @@ MODEL_PRESSURE_A = common.MODEL_PRESSURE_A
 MODEL_PRESSURE_B = common.MODEL_PRESSURE_B
 RESIDUALS = common.MONITOR_RESIDUALS
 EFFECTS = common.MONITOR_EFFECTS
-#: columns of ``monitor/residuals``, one row per channel (angle, p_a, p_b); SI units
-RESIDUAL_FIELDS = ('data_time_s', 'ratio', 'rms', 'floor_rms', 'cusum', 'threshold',
-                   'p_value', 'window_p_value', 'z', 'level', 'windows')
-#: columns of ``monitor/effects``, one row per tracked parameter; SI units; alert 0/1
-EFFECT_FIELDS = ('data_time_s', 'value', 'stderr', 'alert')
-LEVEL_NUMBER = {'ok': 0, 'warn': 1, 'error': 2}
 #: [s] wall time between hand-overs of finished samples to the judge
 SEND_PERIOD_S = 0.02
 #: messages taken per subscription and turn at most (a turn stays short)
@@ -62,84 +57,6 @@ MODEL_QOS = QoSProfile(depth=200, history=HistoryPolicy.KEEP_LAST,
 REPORT_QOS = QoSProfile(depth=10, reliability=ReliabilityPolicy.RELIABLE)
 
 
-def _time(t_s: float) -> str:
-    """A time [s] for a diagnostic value, to the microsecond (or 'nan')."""
-    return f'{t_s:.6f}' if math.isfinite(t_s) else 'nan'
-
-
-def _track_names(text: str) -> tuple[str, ...]:
-    return tuple(t.strip() for t in text.split(',') if t.strip())
-
-
-def _cross(v: dict):
-    from .. import effects as registry
-    for name in _track_names(v.get('track', '')):
-        try:
-            registry.get(name)
-        except PneumaticServoError as exc:
-            return f'track: {exc}'
-    return None
-
-
-MONITOR_SPECS = SpecSet([
-    Spec('model_config', '', "the identified model: config YAML ('' = the paper's rig)",
-         read_only=True),
-    Spec('joint_name', 'actuator_joint', 'joint in joint_states', read_only=True),
-    Spec('floor_file', '', 'floor file: loaded if it exists (judging starts at once), else '
-         'measured on the baseline and saved there (\'\' = '
-         '$ROS_HOME/pneumatic_servo/<node>_floor.yaml, measured each start)', read_only=True),
-    Spec('baseline_s', 20.0, 'data on which the floor is measured before judging starts '
-         '(without a floor file)', 's', 1.0, 86400.0, read_only=True),
-    Spec('horizon_s', 0.2, 'k-step horizon of the judged windows', 's', 0.01, 5.0,
-         read_only=True),
-    Spec('lead_s', 0.05, 'lead-in before each prediction for the unmeasured states', 's', 0.0,
-         1.0, read_only=True),
-    Spec('replicas', 8, 'copies of each window that measure its floor', '', 3, 64,
-         read_only=True),
-    Spec('false_alarm_per_hour', 0.01, 'stated rate of false WARNs per hour of data, all '
-         'channels together, when the model describes the rig', '1/h', 1e-6, 1000.0,
-         read_only=True),
-    Spec('error_ratio', 10.0, 'a departing channel this many times its floor is an ERROR',
-         '', 1.0, 1e6, read_only=True),
-    Spec('recent_s', 10.0, 'data over which departures and regimes are reported', 's', 1.0,
-         3600.0, read_only=True),
-    Spec('max_backlog_s', 2.0, 'data waiting beyond this are skipped (decimation, reported)',
-         's', 0.2, 600.0, read_only=True),
-    Spec('track', '', "effects fitted when a channel departs, comma-separated (e.g. "
-         "piston_seal_leakage; '' = none)", read_only=True),
-    Spec('fit_window_s', 10.0, 'data per tracked fit', 's', 1.0, 600.0, read_only=True),
-    Spec('fit_period_s', 10.0, 'data time between tracked fits while a channel departs', 's',
-         0.5, 86400.0, read_only=True),
-    Spec('command_order', 'source', 'pair commands with measurements by their publishers\' '
-         'source timestamps (one host, or synchronised clocks) or by arrival',
-         choices=('source', 'received'), read_only=True),
-    Spec('plant_status', 'pneumatic_servo_plant: plant', "the plant's status on /diagnostics "
-         "('' = none): while it says its gate holds the valve safe, the commands do not reach "
-         'the valve and those samples are not judged', read_only=True),
-    Spec('publish_model', True, 'publish the model/ predictions'),
-    Spec('diagnostics_period_s', 1.0, 'period of /diagnostics', 's', 0.05, 60.0),
-    Spec('seed', 0, "seed of the copies' jitter and noise", '', 0, 2 ** 31 - 1,
-         read_only=True),
-    Spec('nice', 10, 'scheduling niceness of the monitor and its workers (0-19): on shared '
-         'cores the plant and the controller win the CPU', '', 0, 19, read_only=True),
-    Spec('autostart', True, 'configure and activate at start (no lifecycle manager needed)',
-         read_only=True),
-], cross=_cross)
-
-
-def _table(kind: str, rows: dict, fields: tuple) -> Float64MultiArray:
-    """A table as a Float64MultiArray: one row per entry of ``rows`` (named in the first
-    dimension's label, ``kind:a,b``), one column per field (NaN where a value is None)."""
-    msg = Float64MultiArray()
-    names = list(rows)
-    msg.layout.dim = [
-        MultiArrayDimension(label=f'{kind}:' + ','.join(names), size=len(names),
-                            stride=len(names) * len(fields)),
-        MultiArrayDimension(label='field:' + ','.join(fields), size=len(fields),
-                            stride=len(fields))]
-    msg.data = [float(r[f]) if r.get(f) is not None else math.nan
-                for r in rows.values() for f in fields]
-    return msg
 
 
 class MonitorNode(LifecycleNode):
@@ -214,7 +131,7 @@ class MonitorNode(LifecycleNode):
             horizon_s=p['horizon_s'], lead_s=p['lead_s'], replicas=p['replicas'],
             baseline_s=p['baseline_s'], false_alarm_per_hour=p['false_alarm_per_hour'],
             error_ratio=p['error_ratio'], recent_s=p['recent_s'],
-            max_backlog_s=p['max_backlog_s'], track=_track_names(p['track']),
+            max_backlog_s=p['max_backlog_s'], track=track_names(p['track']),
             fit_window_s=p['fit_window_s'], fit_period_s=p['fit_period_s'], seed=p['seed'])
         floor = None
         if p['floor_file'] and Path(p['floor_file']).exists():
@@ -455,23 +372,11 @@ class MonitorNode(LifecycleNode):
                 self.published += 1
 
     def _publish_residuals(self, report: dict) -> None:
-        t = report['t_ns'] * 1e-9
-        rows = {ch: {**c, 'data_time_s': t, 'level': LEVEL_NUMBER[c['level']]}
-                for ch, c in report['channels'].items()}
-        self.pubs[RESIDUALS].publish(_table('channel', rows, RESIDUAL_FIELDS))
+        self.pubs[RESIDUALS].publish(messages.residual_table(report))
 
     def _publish_effects(self) -> None:
-        if not self.estimates:
-            return
-        rows = {k: {'data_time_s': s['t_s'], 'value': s['value'], 'stderr': s['stderr'],
-                    'alert': 1.0 if s['alert'] else 0.0} for k, s in self.estimates.items()}
-        self.pubs[EFFECTS].publish(_table('parameter', rows, EFFECT_FIELDS))
-
-    def _status(self, name: str, level: str, message: str, values: dict) -> DiagnosticStatus:
-        st = DiagnosticStatus(level=common.LEVELS[level], name=f'{self.get_name()}: {name}',
-                              message=message, hardware_id='monitor')
-        st.values = [KeyValue(key=str(k), value=common._fmt(v)) for k, v in values.items()]
-        return st
+        if self.estimates:
+            self.pubs[EFFECTS].publish(messages.effect_table(self.estimates))
 
     def _publish_diagnostics(self, force: bool = False, extra: str = '') -> None:
         now = monotonic()
@@ -484,36 +389,12 @@ class MonitorNode(LifecycleNode):
         common.set_stamp(arr.header.stamp, stamp)
         arr.status = [self._node_status(extra)]
         if rep is not None:
-            for ch, c in rep['channels'].items():
-                values = {k: c[k] for k in ('ratio', 'rms', 'floor_rms', 'unit', 'cusum',
-                                            'threshold', 'p_value', 'window_p_value', 'z',
-                                            'windows', 'alarms', 'regime')}
-                # times in full (a stamp is ~1.8e9 s: six digits would say nothing)
-                values['since_s'] = _time(c['since_ns'] * 1e-9 if c['since_ns'] else math.nan)
-                values['data_time_s'] = _time(rep['t_ns'] * 1e-9)
-                arr.status.append(self._status(f'monitor {ch}', c['level'], c['message'],
-                                               values))
-        for key, s in self.estimates.items():
-            alert = s.get('alert')
-            level = 'warn' if alert else 'ok'
-            if alert:
-                message = alert['text']
-            elif s['estimates']:
-                message = (f'{s["value"]:.3g} +/- {s["stderr"]:.2g} {s["unit"]} '
-                           f'({s["estimates"]} estimates, no change)')
-            else:
-                message = 'no estimate yet (fitted at the end of the baseline and while a ' \
-                          'channel departs)'
-            values = {'value': s['value'], 'stderr': s['stderr'], 'unit': s['unit'],
-                      'estimates': s['estimates'], 'data_time_s': _time(s['t_s']),
-                      'alert': alert['text'] if alert else '',
-                      'alert_p_value': alert['p_value'] if alert else math.nan}
-            arr.status.append(self._status(f'monitor {key}', level, message, values))
+            arr.status += messages.channel_statuses(self.get_name(), rep)
+        arr.status += messages.estimate_statuses(self.get_name(), self.estimates)
         self.diag_pub.publish(arr)
 
     def _node_status(self, extra: str = '') -> DiagnosticStatus:
         rep = self.report or {}
-        level, words = 'ok', []
         counts = rep.get('counts', {})
         dropped = self.worker.dropped if self.worker is not None else 0
         if self.worker_error or self.halt_reason:
@@ -523,37 +404,11 @@ class MonitorNode(LifecycleNode):
         elif self.worker is not None and not self.worker.alive:
             level, words = 'error', ['the judging process died']
         else:
-            words.append(f'{self.state}: {rep.get("state", "starting")}')
-            if rep.get('state') == 'baseline':
-                words.append(f'{rep.get("baseline_left_s", 0.0):.0f} s of baseline to go')
-            departing = [ch for ch, c in rep.get('channels', {}).items() if c['level'] != 'ok']
-            if departing:
-                words.append('departs in ' + ', '.join(departing))
-            if rep.get('decimating'):
-                level = 'warn'
-                words.append(f'DECIMATING: judged {counts.get("judged", 0)} of the windows, '
-                             f'skipped {counts.get("skipped", 0)} (the monitor cannot keep up '
-                             'with the data; the false-alarm rate only falls)')
-            if dropped:
-                level = 'warn'
-                words.append(f'dropped {dropped} samples (the judge is behind)')
-            lost, samples = counts.get('lost', 0), counts.get('samples', 0)
-            if lost > 0.01 * (lost + samples):
-                level = 'warn'
-                words.append(f'{lost} of {lost + samples} samples missing (lost on the way, '
-                             'or the plant stood still): windows over them are not judged')
-            if rep.get('last_error'):
-                level = 'warn'
-                words.append(f'a window could not be simulated: {rep["last_error"]}')
-            if getattr(self, 'valve_held', False):
-                level = 'warn'
-                words.append(f'the plant holds its valve safe ({self.held_note}): the commands '
-                             'do not reach it, those samples are not judged')
-            if self.assembler is not None and self.assembler.received['commands'] == 0 \
-                    and self.assembler.received['joint_states'] > 0:
-                level = 'warn'
-                words.append('no valve/command: the model cannot be run (a replay needs '
-                             'replay_command:=true)')
+            no_commands = (self.assembler is not None
+                           and self.assembler.received['commands'] == 0
+                           and self.assembler.received['joint_states'] > 0)
+            held = self.held_note if getattr(self, 'valve_held', False) else None
+            level, words = messages.health(self.state, rep, dropped, held, no_commands)
         if extra:
             words.insert(0, extra)
         sensors = rep.get('sensors') or {}
@@ -578,4 +433,4 @@ class MonitorNode(LifecycleNode):
             values[f'floor_rms_{ch}'] = v
         for ch, v in (sensors.get('noise') or {}).items():
             values[f'noise_{ch}'] = v
-        return self._status('monitor', level, '; '.join(words), values)
+        return messages.status(self.get_name(), 'monitor', level, '; '.join(words), values)

@@ -60,7 +60,7 @@ def render(specs: SpecSet, header: str) -> str:
 def files() -> dict[str, str]:
     """File name -> content of every generated parameter file."""
     from .controller_node import CONTROLLER_SPECS
-    from .monitor_node import MONITOR_SPECS
+    from .monitor_specs import MONITOR_SPECS
     from .plant_node import PLANT_SPECS
     return {'plant_sim.yaml': render(PLANT_SPECS, HEADERS['plant_sim.yaml']),
             'controller.yaml': render(CONTROLLER_SPECS, HEADERS['controller.yaml']),
