@@ -15,7 +15,7 @@ from pathlib import Path
 import pneumatic_servo
 
 LAYERS = (
-    ('', '_jit', 'errors', '__version__', 'jsonable'),
+    ('', '_jit', 'errors', '__version__', 'jsonable', 'text'),
     ('files',),
     ('physics', 'smoothing'),
     ('effects',),

@@ -23,6 +23,7 @@ from ..experiment import CHANNELS, Experiment
 from ..model.assembly import Model
 from ..model.config import ModelConfig
 from ..prediction import COMPARE_HORIZON_S, config_for, open_loop, predict_checked, windows
+from ..text import comma_list
 from .metrics import channel_metrics
 
 MODES = ('open_loop', 'k_step')
@@ -44,7 +45,7 @@ def resolve_config(config=None, effects=None) -> ModelConfig:
     else:
         cfg = ModelConfig.load(config)
     if isinstance(effects, str):
-        effects = [e.strip() for e in effects.split(',') if e.strip()]
+        effects = comma_list(effects)
     for name in effects or ():
         if name not in cfg.effects:
             cfg = cfg.with_effect(name)

@@ -14,7 +14,8 @@ from pathlib import Path
 
 from ..jsonable import dumps
 from ..prediction import COMPARE_HORIZON_S
-from .options import comma_list, output_dir, output_file, positive_seconds, seconds
+from ..text import comma_list
+from .options import output_dir, output_file, positive_seconds, seconds
 
 
 def add_parser(sub) -> argparse.ArgumentParser:

@@ -25,7 +25,8 @@ from ..io import read_experiment
 from ..jsonable import dumps
 from ..model.config import ModelConfig
 from ..prediction import DIAGNOSIS_HORIZON_S
-from .options import comma_list, fraction, output_dir, output_file, positive_seconds
+from ..text import comma_list
+from .options import fraction, output_dir, output_file, positive_seconds
 
 
 def add_parser(sub) -> argparse.ArgumentParser:

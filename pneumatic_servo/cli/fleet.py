@@ -20,7 +20,8 @@ import argparse
 from pathlib import Path
 
 from ..jsonable import dumps
-from .options import comma_list, number, output_dir, output_file
+from ..text import comma_list
+from .options import number, output_dir, output_file
 from .verify import add_limit_arguments
 
 

@@ -10,7 +10,8 @@ from __future__ import annotations
 
 import argparse
 
-from .options import comma_list, number
+from ..text import comma_list
+from .options import number
 
 
 def add_parser(sub) -> argparse.ArgumentParser:

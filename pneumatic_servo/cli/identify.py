@@ -16,7 +16,8 @@ import argparse
 from pathlib import Path
 
 from ..jsonable import dumps
-from .options import comma_list, number, output_dir, output_file, positive_seconds
+from ..text import comma_list
+from .options import number, output_dir, output_file, positive_seconds
 
 
 def add_parser(sub) -> argparse.ArgumentParser:

@@ -34,12 +34,6 @@ def number(lo: float | None = None, hi: float | None = None, *, above: bool = Fa
     return parse
 
 
-def comma_list(text: str) -> tuple[str, ...]:
-    """A comma-separated list (``a,b,c``) as a tuple of its items, each stripped of spaces,
-    empty items dropped (so ``''`` is ``()``)."""
-    return tuple(item.strip() for item in text.split(',') if item.strip())
-
-
 #: common kinds
 positive_seconds = number(0.0, above=True, unit='s')
 positive_seconds_or_inf = number(0.0, above=True, infinite_ok=True, unit='s')

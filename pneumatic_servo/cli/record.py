@@ -6,7 +6,8 @@ import math
 
 from ..errors import ConfigError
 from ..jsonable import dumps
-from .options import comma_list, new_path, output_file, positive_seconds
+from ..text import comma_list
+from .options import new_path, output_file, positive_seconds
 
 
 def add_parser(sub) -> argparse.ArgumentParser:

@@ -10,7 +10,8 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from .options import comma_list, new_path
+from ..text import comma_list
+from .options import new_path
 
 
 def add_parser(sub) -> argparse.ArgumentParser:

@@ -17,7 +17,8 @@ from pathlib import Path
 from ..analysis.compare import PAPER_MAX_ANGLE_ERROR_DEG, PAPER_MAX_PRESSURE_ERROR_PA
 from ..jsonable import dumps
 from ..prediction import COMPARE_HORIZON_S
-from .options import comma_list, output_file, positive_seconds, seconds
+from ..text import comma_list
+from .options import output_file, positive_seconds, seconds
 
 
 def add_parser(sub) -> argparse.ArgumentParser:

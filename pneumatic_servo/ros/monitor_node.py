@@ -35,8 +35,9 @@ from sensor_msgs.msg import FluidPressure, JointState, Temperature
 from std_msgs.msg import Float64, Float64MultiArray
 
 from ..errors import ConfigError, PneumaticServoError
+from ..text import comma_list
 from . import cdr, common, monitor_messages as messages, private
-from .monitor_specs import MONITOR_SPECS, track_names
+from .monitor_specs import MONITOR_SPECS
 
 monotonic = time.monotonic
 #: the monitor's topics (relative: a namespace moves them with the rig's; ros/common.py)
@@ -131,7 +132,7 @@ class MonitorNode(LifecycleNode):
             horizon_s=p['horizon_s'], lead_s=p['lead_s'], replicas=p['replicas'],
             baseline_s=p['baseline_s'], false_alarm_per_hour=p['false_alarm_per_hour'],
             error_ratio=p['error_ratio'], recent_s=p['recent_s'],
-            max_backlog_s=p['max_backlog_s'], track=track_names(p['track']),
+            max_backlog_s=p['max_backlog_s'], track=comma_list(p['track']),
             fit_window_s=p['fit_window_s'], fit_period_s=p['fit_period_s'], seed=p['seed'])
         floor = None
         if p['floor_file'] and Path(p['floor_file']).exists():

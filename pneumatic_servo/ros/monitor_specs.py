@@ -4,16 +4,12 @@ from __future__ import annotations
 
 from ..control.params import Spec, SpecSet
 from ..errors import PneumaticServoError
-
-
-def track_names(text: str) -> tuple[str, ...]:
-    """The effect names of the comma-separated ``track`` parameter."""
-    return tuple(t.strip() for t in text.split(',') if t.strip())
+from ..text import comma_list
 
 
 def _cross(v: dict):
     from .. import effects as registry
-    for name in track_names(v.get('track', '')):
+    for name in comma_list(v.get('track', '')):
         try:
             registry.get(name)
         except PneumaticServoError as exc:
