@@ -83,7 +83,6 @@ class Monitor:
         self.last_error = ''
         self.grid = SampleGrid()
         self.next_start = None
-        self.baseline_end = None
         self._last_report_ns = None
         self._next_fit = None
         self._fits = 0
@@ -136,7 +135,6 @@ class Monitor:
         """A new run: an empty grid, nothing judged or measured on it yet."""
         self.grid = self.grid.restarted()
         self.next_start = None
-        self.baseline_end = None
 
     # ------------------------------------------------------------------ samples
     def add(self, stamps_ns, columns: dict) -> None:
@@ -220,7 +218,6 @@ class Monitor:
             return False
         ok = ok[-need:]
         self.sensors = Sensors.measure({s: g.cols[s][rows][ok] for s in CHANNELS.values()})
-        self.baseline_end = g.end
         self._baseline_info = {'start_ns': int(g.t_ns[rows][ok[0]]),
                                'seconds': float(need * self.dt), 'samples': int(len(ok))}
         self._next_fit = g.end  # the first tracked fit: the baseline itself
