@@ -81,11 +81,18 @@ def test_bad_commands_stale_commands_lifecycle_and_sigterm(procs, probe):
         assert 'non-finite' in st.message and out_v(probe, st) == 5.0
         assert int(probe.diag_values(st)['non_finite']) >= 1
 
-    # deactivate: the safe state, without a fault
+    # deactivate: the safe state, without a fault. Fresh commands flow until the request is
+    # answered: finding the lifecycle service can take longer than the 100 ms watchdog, which
+    # would otherwise trip first (seen once in CI)
     recover(probe)
     command_for(probe, 6.0, 0.2)
     t = time.monotonic()
-    assert probe.change_state(PLANT, Transition.TRANSITION_DEACTIVATE)
+    keep_fresh = probe.node.create_timer(
+        0.01, lambda: probe.command_pub.publish(Float64(data=6.0)))
+    try:
+        assert probe.change_state(PLANT, Transition.TRANSITION_DEACTIVATE)
+    finally:
+        probe.node.destroy_timer(keep_fresh)
     st = probe.wait_diag('plant', lambda s, v: v['state'] == 'inactive', 5.0, t)
     assert out_v(probe, st) == 5.0 and level(st) == 0 and 'held' in st.message
     assert probe.change_state(PLANT, Transition.TRANSITION_ACTIVATE)
