@@ -31,7 +31,7 @@ from lifecycle_msgs.msg import Transition
 
 from pneumatic_servo.ros.controller_node import CONTROLLER_SPECS
 from pneumatic_servo.ros.monitor_node import MONITOR_SPECS
-from pneumatic_servo.ros.plant_node import PLANT_SPECS
+from pneumatic_servo.ros.plant_specs import PLANT_SPECS
 
 #: the plant, controller and monitor parameters set by launch arguments
 PLANT_ARGS = ('backend', 'clock_mode', 'model_config', 'rig_config', 'daq', 'bag')

@@ -348,3 +348,20 @@ def test_a_replay_reads_a_recording_with_a_gap_as_it_is(tmp_path):
     stamps, values = series['p_a_pa']
     assert len(stamps) == 600 - 250 and np.all(np.diff(stamps) > 0)
     assert len(series['angle_rad'][0]) == 600
+
+
+@pytest.mark.parametrize('storage', STORAGES)
+def test_read_messages_of_any_topic_and_its_errors(tmp_path, storage):
+    """read_messages (topics outside the interface, e.g. a monitor's) reads in record order
+    and refuses a truncated bag with the same one-line reason as read_bag."""
+    from pneumatic_servo.io.bag import read_messages
+    path = _bag(tmp_path, storage, n=2000)
+    got = read_messages(path, ['joint_states'])
+    assert len(got) == 2000 and {t for t, _, _ in got} == {'joint_states'}
+    assert [r for _, r, _ in got] == sorted(r for _, r, _ in got)
+    assert got[0][2].position[0] == pytest.approx(1.0)
+    store = next(p for p in path.iterdir() if p.suffix in ('.db3', '.mcap'))
+    store.write_bytes(store.read_bytes()[:int(store.stat().st_size * 0.3)])
+    with pytest.raises(ExperimentError, match='truncated or corrupt|has no footer') as info:
+        read_messages(path, ['joint_states'])
+    assert '\n' not in str(info.value) and str(path) in str(info.value)

@@ -158,3 +158,12 @@ def test_no_import_cycle_inside_a_package():
     assert import_cycles({'a': {'b'}, 'b': {'c'}, 'c': {'a'}, 'd': {'a'}}) == [['a', 'b', 'c']]
     cycles = import_cycles(graph)
     assert not cycles, 'import cycles:\n' + '\n'.join(' <-> '.join(c) for c in cycles)
+
+
+def test_no_module_over_450_lines():
+    """One module per idea: a module past 450 lines is doing several jobs (issue 18's
+    limit; a module that must be longer says why here)."""
+    root = Path(pneumatic_servo.__file__).parent
+    long = {str(p.relative_to(root)): n for p in root.rglob('*.py')
+            if (n := len(p.read_text().splitlines())) > 450}
+    assert not long, f'modules over 450 lines: {long}'

@@ -41,7 +41,8 @@ def add_parser(sub) -> argparse.ArgumentParser:
 def run(args) -> int:
     from ..ros import require_rclpy
     require_rclpy()
-    from ..ros.run import exit_code, make_controller, run_nodes
+    from ..ros.loop import run_nodes
+    from ..ros.run import exit_code, make_controller
     overrides = controller_overrides(args)
     reason = run_nodes([lambda: make_controller(overrides, args.use_sim_time, args.namespace)],
                        args.duration, ros_argv(args))

@@ -53,7 +53,8 @@ def monitor_overrides(args) -> dict:
 def run(args) -> int:
     from ..ros import require_rclpy
     require_rclpy()
-    from ..ros.run import exit_code, make_monitor, run_nodes
+    from ..ros.loop import run_nodes
+    from ..ros.run import exit_code, make_monitor
     overrides = monitor_overrides(args)
     reason = run_nodes([lambda: make_monitor(overrides, args.namespace)], args.duration,
                        ros_argv(args))

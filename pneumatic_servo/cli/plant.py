@@ -38,7 +38,7 @@ def add_plant_options(p: argparse.ArgumentParser, set_flag: str = '--set') -> No
 
 def plant_overrides(args) -> dict:
     """Plant parameter values from the options (validated: ConfigError names a bad one)."""
-    from ..ros.plant_node import PLANT_SPECS
+    from ..ros.plant_specs import PLANT_SPECS
     values = PLANT_SPECS.parse_assignments(args.plant_set)
     values.setdefault('backend', args.backend)
     values.setdefault('clock_mode', args.clock)
@@ -74,7 +74,8 @@ def add_parser(sub) -> argparse.ArgumentParser:
 def run(args) -> int:
     from ..ros import require_rclpy
     require_rclpy()
-    from ..ros.run import exit_code, make_plant, run_nodes
+    from ..ros.loop import run_nodes
+    from ..ros.run import exit_code, make_plant
     overrides = plant_overrides(args)
     reason = run_nodes([lambda: make_plant(overrides, args.namespace)], args.duration,
                        ros_argv(args))

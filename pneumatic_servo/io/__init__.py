@@ -4,7 +4,7 @@
 validated :class:`~pneumatic_servo.experiment.Experiment`: time series
 resampled onto one uniform grid (CSV: ``static=True``, one row per
 operating point). ``write_experiment_bag`` and ``write_static_csv`` write
-them back in the INTERFACES.md formats. Uses ``rosbags`` only, never rclpy.
+them back in the docs/interfaces.md formats. Uses ``rosbags`` only, never rclpy.
 """
 from __future__ import annotations
 

@@ -1,5 +1,5 @@
 """Hand-written CDR (little endian, XCDR1, as rmw_fastrtps puts ROS 2 messages on the wire)
-of the INTERFACES.md message types, one message at a time. Pure (struct only).
+of the docs/interfaces.md message types, one message at a time. Pure (struct only).
 
 Two users: the ROS nodes' hot path (``pneumatic_servo.ros.cdr``, which re-exports this:
 rclpy converts every message between Python objects and C structs, at 1 kHz with seven

@@ -1,4 +1,4 @@
-"""Static experiments (steady-state test tables) as CSV, INTERFACES.md 'Static experiments'.
+"""Static experiments (steady-state test tables) as CSV, docs/interfaces.md 'Static experiments'.
 
 Columns: ``circuit`` (``closed_port``, ``flow``, or ``blocked``: the pistons held,
 both chambers settled at a held voltage), ``voltage_v``, ``supply_pa``
@@ -132,7 +132,7 @@ def read_static_csv(path, name: str | None = None) -> Experiment:
 
 
 def write_static_csv(exp: Experiment, path, metadata: dict | None = None) -> Path:
-    """Write a static experiment as an INTERFACES.md CSV (and ``metadata`` as its sidecar)."""
+    """Write a static experiment as an docs/interfaces.md CSV (and ``metadata`` as its sidecar)."""
     if not exp.static:
         raise ExperimentError(f'{exp.name}: a time series goes in a bag; use '
                               'write_experiment_bag')

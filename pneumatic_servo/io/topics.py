@@ -1,4 +1,4 @@
-"""The recorded-experiment vocabulary of INTERFACES.md: topics, message types, signals.
+"""The recorded-experiment vocabulary of docs/interfaces.md: topics, message types, signals.
 
 Topic names are relative (a namespace or remap moves them); ``/diagnostics``
 and the usual ROS infrastructure topics may be present and are ignored.
@@ -25,7 +25,7 @@ CELSIUS_K = 273.15
 
 @dataclass(frozen=True)
 class Topic:
-    """One INTERFACES.md topic: its type and the Experiment signals it carries.
+    """One docs/interfaces.md topic: its type and the Experiment signals it carries.
 
     ``stamped`` topics carry the measurement time in ``header.stamp``; the
     others (``std_msgs/Float64``) are timed by their record time.

@@ -1,8 +1,8 @@
 """The figure of a recorded monitored run: measured vs model, and the verdicts over time.
 
 Reads a bag recorded with ``pneumatic-servo record --monitor`` (measurements, the model's
-k-step predictions under ``model/``, ``/diagnostics``, ``monitor/effects``) with rosbags and
-draws, with matplotlib: the angle and the chamber pressures against the model's
+k-step predictions under ``model/``, ``/diagnostics``, ``monitor/effects``) with the
+package's reader and draws, with matplotlib: the angle and the chamber pressures against the model's
 predictions in two short spans (before and after a change), the departure of each channel
 in units of its floor with the monitor's level, and the tracked effects' estimates.
 """
@@ -14,41 +14,39 @@ import numpy as np
 
 LEVEL_COLOURS = {0: '#e8f5e9', 1: '#fff3cd', 2: '#f8d7da'}
 CHANNELS = ('angle', 'p_a', 'p_b')
+#: the drawn signals and the topics they are keyed by
+SERIES = {'angle_rad': '/joint_states', 'p_a_pa': '/chamber_a/pressure',
+          'p_b_pa': '/chamber_b/pressure'}
 
 
 def read_run(bag) -> dict:
-    """The monitored run in a bag: series by name, times [s] from the first measurement."""
-    from rosbags.highlevel import AnyReader
-
-    from ..io.codecs import typestore
-    wanted = {'/joint_states', '/model/joint_states', '/chamber_a/pressure',
-              '/model/chamber_a/pressure', '/chamber_b/pressure', '/model/chamber_b/pressure',
-              '/diagnostics', '/monitor/effects'}
-    series: dict = {}
+    """The monitored run in a bag: series by topic as (n, 2) arrays of (header stamp [s],
+    value), the monitor's statuses and effect estimates by record time [s], and ``t0``, the
+    first measurement [s]. Measurements and the model's predictions (the ``model``
+    namespace) are read by :func:`pneumatic_servo.io.read_series`, the monitor's own topics
+    by :func:`pneumatic_servo.io.bag.read_messages`."""
+    from ..io import read_series
+    from ..io.bag import read_messages
+    series = {}
+    for prefix, namespace in (('', None), ('/model', 'model')):
+        got, _ = read_series(bag, namespace=namespace)
+        for sig, topic in SERIES.items():
+            if sig in got:
+                stamps, values = got[sig]
+                series[prefix + topic] = np.column_stack([stamps * 1e-9, values])
     status: dict = {}
     effects: list = []
-    with AnyReader([Path(bag)], default_typestore=typestore()) as reader:
-        conns = [c for c in reader.connections if c.topic in wanted]
-        for conn, rec, raw in reader.messages(connections=conns):
-            msg = reader.deserialize(raw, conn.msgtype)
-            if conn.topic == '/diagnostics':
-                for st in msg.status:
-                    if st.hardware_id != 'monitor' or ': monitor ' not in st.name:
-                        continue
-                    values = {kv.key: kv.value for kv in st.values}
-                    status.setdefault(st.name.split(': monitor ')[1], []).append(
-                        (rec * 1e-9, int(st.level), values))
-                continue
-            if conn.topic == '/monitor/effects':
-                effects.append((rec * 1e-9, msg.layout.dim[0].label, np.array(msg.data)))
-                continue
-            t = msg.header.stamp.sec + msg.header.stamp.nanosec * 1e-9
-            value = (msg.position[0] if conn.topic.endswith('joint_states')
-                     else msg.fluid_pressure)
-            series.setdefault(conn.topic, []).append((t, value))
-    out = {topic: np.array(sorted(v)) for topic, v in series.items()}
-    return {'series': out, 'status': status, 'effects': effects,
-            't0': out['/joint_states'][0, 0]}
+    for topic, rec, msg in read_messages(bag, ('/diagnostics', '/monitor/effects')):
+        if topic == '/monitor/effects':
+            effects.append((rec * 1e-9, msg.layout.dim[0].label, np.array(msg.data)))
+            continue
+        for st in msg.status:
+            if st.hardware_id == 'monitor' and ': monitor ' in st.name:
+                values = {kv.key: kv.value for kv in st.values}
+                status.setdefault(st.name.split(': monitor ')[1], []).append(
+                    (rec * 1e-9, int(st.level), values))
+    return {'series': series, 'status': status, 'effects': effects,
+            't0': series['/joint_states'][0, 0]}
 
 
 def _spans(ax, times, levels):

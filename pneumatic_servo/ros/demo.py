@@ -36,73 +36,99 @@ def profile_points():
     return pts
 
 
-def run_lockstep_session(controller: str, bag_dir, end_s: float = END_S, points=None,
-                         initial_angle_rad: float = STEP_FROM_DEG * DEG,
-                         storage: str = 'sqlite3', controller_overrides: dict | None = None,
-                         timeout_s: float = 120.0) -> dict:
-    """Plant (lockstep), controller, recorder and the trajectory in one process and one event
-    loop, over DDS, until the plant's sim time reaches ``end_s``. rclpy must be initialised.
-
-    Returns ``{'bag', 'sim_s', 'wall_s', 'speed', 'counts'}``.
-    """
+def _bring_up(points, ctrl, plant):
+    """A node that does a lifecycle manager's job for the demo: it sends the trajectory to
+    the controller, and configures and activates the plant once the controller has it (a
+    deterministic run needs the trajectory there before sim time starts)."""
+    from rclpy.lifecycle import TransitionCallbackReturn
     from rclpy.node import Node
-    from rclpy.parameter import Parameter
     from trajectory_msgs.msg import JointTrajectory
 
     from . import common
+
+    class BringUp(Node):
+        def __init__(self):
+            super().__init__('pneumatic_servo_demo')
+            self.pub = self.create_publisher(JointTrajectory, common.TRAJECTORY,
+                                             common.COMMAND_QOS)
+            self.sent = False
+
+        def next_deadline(self) -> float:
+            return time.monotonic() + 0.01 if plant.state == 'unconfigured' else math.inf
+
+        def tick(self, now: float) -> None:
+            if plant.state != 'unconfigured':
+                return
+            if not self.sent and self.pub.get_subscription_count() >= 1:
+                self.pub.publish(common.joint_trajectory(points, ctrl.joint))
+                self.sent = True
+            if ctrl.trajectory is not None and not plant.halt_reason \
+                    and plant.trigger_configure() == TransitionCallbackReturn.SUCCESS:
+                plant.trigger_activate()
+    return BringUp()
+
+
+def run_lockstep_session(controller: str, bag_dir, end_s: float = END_S, points=None,
+                         initial_angle_rad: float = STEP_FROM_DEG * DEG,
+                         storage: str = 'sqlite3', controller_overrides: dict | None = None,
+                         timeout_s: float = 120.0, domain_id: int | None = None) -> dict:
+    """Plant (lockstep), controller, recorder and the trajectory in one process and one event
+    loop (:func:`.loop.run_nodes`), over DDS, until the plant's sim time reaches ``end_s``.
+
+    Returns ``{'bag', 'sim_s', 'wall_s', 'speed', 'counts'}``.
+    """
+    from rclpy.parameter import Parameter
+
     from .controller_node import ControllerNode
-    from .loop import EventLoop
+    from .loop import run_nodes
     from .plant_node import PlantNode
     from .recorder import RecorderNode
     sim = [Parameter('use_sim_time', value=True)]
     points = profile_points() if points is None else points
     overrides = {'controller': controller, **(controller_overrides or {})}
-    nodes = []
-    try:
-        ctrl = ControllerNode(overrides=overrides, parameter_overrides=sim)
-        nodes.append(ctrl)
-        rec = RecorderNode(bag_dir, storage, parameter_overrides=sim)
-        nodes.append(rec)
-        driver = Node('pneumatic_servo_demo')
-        nodes.append(driver)
-        pub = driver.create_publisher(JointTrajectory, common.TRAJECTORY, common.COMMAND_QOS)
-        # the trajectory must be with the controller before sim time starts
-        boot = EventLoop([ctrl, rec, driver])
-        end = time.monotonic() + 10.0
-        while pub.get_subscription_count() < 1 and time.monotonic() < end:
-            boot.spin_once(0.01)
-        pub.publish(common.joint_trajectory(points, ctrl.joint))
-        while ctrl.trajectory is None and time.monotonic() < end:
-            boot.spin_once(0.01)
-        if ctrl.trajectory is None:
-            raise RuntimeError('the controller did not receive the trajectory')
-        plant = PlantNode(overrides={'clock_mode': 'lockstep', 'initial_angle_rad':
-                                     initial_angle_rad, 'wait_subscribers': 2})
-        nodes.append(plant)
-        loop = EventLoop([plant, ctrl, rec, driver])
-        t0 = None
-        deadline = time.monotonic() + timeout_s
-        while plant.samples * plant.period_s < end_s:
-            loop.spin_once(0.01)
-            if t0 is None and plant.started:
-                t0, k0 = time.monotonic(), plant.samples
-            if time.monotonic() > deadline:
-                raise RuntimeError(f'lockstep run did not finish in {timeout_s:g} s')
-            if plant.state != 'active':
-                raise RuntimeError(f'plant stopped: {plant.halt_reason or plant.state}')
-        wall = time.monotonic() - t0
-        sim_s = (plant.samples - k0) * plant.period_s
-        plant.shutdown('demo done')
-        # let the recorder drain what is still queued for it
-        settle = time.monotonic() + 0.3
-        while time.monotonic() < settle:
-            loop.spin_once(0.01)
-        counts = rec.close()
-        return {'bag': str(bag_dir), 'sim_s': sim_s, 'wall_s': wall, 'speed': sim_s / wall,
-                'counts': counts}
-    finally:
-        for n in reversed(nodes):
-            n.destroy_node()
+    n = {}
+
+    def make(key, factory):
+        def made():
+            n[key] = factory()
+            return n[key]
+        return made
+
+    factories = [
+        make('ctrl', lambda: ControllerNode(overrides=overrides, parameter_overrides=sim)),
+        make('rec', lambda: RecorderNode(bag_dir, storage, parameter_overrides=sim)),
+        make('plant', lambda: PlantNode(overrides={
+            'clock_mode': 'lockstep', 'initial_angle_rad': initial_angle_rad,
+            'wait_subscribers': 2, 'autostart': False})),
+        make('bring_up', lambda: _bring_up(points, n['ctrl'], n['plant'])),
+    ]
+    run = {'boot_end': time.monotonic() + 10.0}
+
+    def stop_when() -> str:
+        plant, now = n['plant'], time.monotonic()
+        if plant.state == 'unconfigured':
+            return (f'plant: {plant.halt_reason}' if plant.halt_reason else
+                    'the controller did not receive the trajectory'
+                    if now > run['boot_end'] else '')
+        if 'settled' in run:  # the plant stopped at end_s; the recorder drains the rest
+            return 'done' if now >= run['settled'] else ''
+        if plant.state != 'active':
+            return f'plant stopped: {plant.halt_reason or plant.state}'
+        if 't0' not in run and plant.started:
+            run.update(t0=now, k0=plant.samples, deadline=now + timeout_s)
+        if plant.samples * plant.period_s >= end_s:
+            run.update(wall_s=now - run['t0'], sim_s=(plant.samples - run['k0'])
+                       * plant.period_s, settled=now + 0.3)
+            plant.shutdown('demo done')
+        elif now > run.get('deadline', math.inf):
+            return f'lockstep run did not finish in {timeout_s:g} s'
+        return ''
+
+    reason = run_nodes(factories, stop_when=stop_when, domain_id=domain_id)
+    if reason != 'done':
+        raise RuntimeError(f'closed-loop run stopped: {reason}')
+    return {'bag': str(bag_dir), 'sim_s': run['sim_s'], 'wall_s': run['wall_s'],
+            'speed': run['sim_s'] / run['wall_s'], 'counts': dict(n['rec'].counts)}
 
 
 def read_run(bag_dir) -> dict:
@@ -190,28 +216,22 @@ def run_closed_loop_demo(out_dir, controllers=('pid', 'smc'), storage: str = 'sq
     require_rclpy()
     import shutil
 
-    from .run import shutdown_ros
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     os.environ.setdefault('ROS_AUTOMATIC_DISCOVERY_RANGE', 'LOCALHOST')
-    import rclpy
-    rclpy.init(domain_id=_domain_id(), signal_handler_options=_no_signals())
     runs, result = {}, {'controllers': {}}
-    try:
-        for name in controllers:
-            bag = out / f'bag_{name}'
-            if bag.exists():
-                shutil.rmtree(bag)
-            session = run_lockstep_session(name, bag, storage=storage)
-            run = read_run(bag)
-            run['figures'] = figures(run)
-            runs[name] = run
-            f = {k: v for k, v in run['figures'].items() if k != 'reference'}
-            f.update({'bag': str(bag), 'lockstep_speed': session['speed'],
-                      'messages_recorded': sum(session['counts'].values())})
-            result['controllers'][name] = f
-    finally:
-        shutdown_ros()
+    for name in controllers:
+        bag = out / f'bag_{name}'
+        if bag.exists():
+            shutil.rmtree(bag)
+        session = run_lockstep_session(name, bag, storage=storage, domain_id=_domain_id())
+        run = read_run(bag)
+        run['figures'] = figures(run)
+        runs[name] = run
+        f = {k: v for k, v in run['figures'].items() if k != 'reference'}
+        f.update({'bag': str(bag), 'lockstep_speed': session['speed'],
+                  'messages_recorded': sum(session['counts'].values())})
+        result['controllers'][name] = f
     png = out / 'tracking.png'
     plot(runs, png)
     best = min(result['controllers'], key=lambda n: result['controllers'][n]['sine_rms_error_deg'])
@@ -229,11 +249,6 @@ def run_closed_loop_demo(out_dir, controllers=('pid', 'smc'), storage: str = 'sq
                               f'{SINE_HZ:g} Hz sine, {SINE_AMPLITUDE_DEG:g} deg amplitude '
                               f'around {SINE_CENTRE_DEG:g} deg from {SINE_AT_S:g} s'})
     return result
-
-
-def _no_signals():
-    from rclpy.signals import SignalHandlerOptions
-    return SignalHandlerOptions.NO
 
 
 def main() -> None:  # pragma: no cover - convenience: python -m pneumatic_servo.ros.demo OUT

@@ -62,9 +62,10 @@ STOP_SIGNALS = tuple(getattr(signal, name) for name in (
     'SIGPROF', 'SIGXCPU', 'SIGXFSZ') if hasattr(signal, name))
 
 
-def init_ros(args=None) -> None:
+def init_ros(args=None, domain_id: int | None = None) -> None:
     """``rclpy.init`` without rclpy's signal handlers (the event loop handles signals)."""
-    rclpy.init(args=args, signal_handler_options=SignalHandlerOptions.NO)
+    rclpy.init(args=args, domain_id=domain_id,
+               signal_handler_options=SignalHandlerOptions.NO)
 
 
 def shutdown_ros() -> None:
@@ -172,8 +173,10 @@ class EventLoop:
             self.executor.spin_once(timeout_sec=0.0)
             self._next_service = now + self.service_period_s
 
-    def run(self, until: float = math.inf) -> str:
-        """Loop until stopped, a signal, the context shuts down, or ``until``; returns why."""
+    def run(self, until: float = math.inf, stop_when=None) -> str:
+        """Loop until stopped, a signal, the context shuts down, ``until`` [monotonic s], or
+        ``stop_when()`` returns a reason (checked every turn; '' or None: go on); returns
+        why it stopped."""
         while not self.stop_reason:
             if not self.context.ok():
                 self.stop('context shut down')
@@ -181,12 +184,17 @@ class EventLoop:
             if monotonic() >= until:
                 self.stop('time up')
                 break
+            reason = stop_when() if stop_when is not None else None
+            if reason:
+                self.stop(reason)
+                break
             self.spin_once(min(self.service_period_s, max(until - monotonic(), 0.0)))
         return self.stop_reason
 
-    def shutdown(self, reason: str | None = None) -> None:
-        """Every node's safe shutdown (reverse order: controller before plant), then a short
-        spin so the last messages leave."""
+    def shutdown(self, reason: str | None = None, drain_s: float = 0.1) -> None:
+        """Every node's safe shutdown (reverse order: controller before plant), then
+        ``drain_s`` [s] of spinning so the last messages leave (and reach a recorder in the
+        same process)."""
         reason = reason or self.stop_reason or 'shutdown'
         for n in reversed(self.nodes):
             fn = getattr(n, 'shutdown', None)
@@ -195,9 +203,53 @@ class EventLoop:
                     fn(reason)
                 except Exception as exc:  # keep going: the other nodes must go safe too
                     n.get_logger().error(f'shutdown failed: {exc}')
-        end = monotonic() + 0.1
+        end = monotonic() + drain_s
         while monotonic() < end and self.context.ok():
             try:
                 self.executor.spin_once(timeout_sec=0.02)
             except Exception:
                 break
+
+
+def run_nodes(factories, duration_s: float = math.inf, ros_args=None, stop_when=None,
+              domain_id: int | None = None, drain_s: float = 0.1) -> str:
+    """The one way the package runs nodes: initialise rclpy, create the nodes from
+    ``factories`` (callables, in order), run them in one :class:`EventLoop` until a signal,
+    ``duration_s`` [wall s] or ``stop_when()`` returns a reason; then every node's safe
+    shutdown, ``drain_s`` [s] for the last messages, ``destroy_node`` and rclpy's shutdown,
+    on every exit path. Returns why it stopped (:func:`.run.exit_code` maps it to an exit
+    status). A node that needs to finish something after the drain (a recorder closing its
+    bag) does it in ``destroy_node``."""
+    install_stop_handlers()
+    init_ros(ros_args, domain_id)
+    nodes, loop = [], None
+    try:
+        for make in factories:
+            nodes.append(make())
+            if STOP.reason:
+                break
+        loop = EventLoop(nodes)
+        loop.install_signal_handlers()
+        try:
+            reason = loop.run(monotonic() + duration_s, stop_when)
+        except Exception as exc:  # noqa: BLE001 - every failure ends with the valve safe
+            reason = f'exception: {type(exc).__name__}: {exc}'
+            for n in nodes:
+                n.get_logger().error(reason)
+        loop.shutdown(reason, drain_s)
+        return reason
+    except BaseException:
+        if loop is None:  # failed while building: whatever exists goes safe
+            for n in reversed(nodes):
+                try:
+                    getattr(n, 'shutdown', lambda reason: None)('start-up failed')
+                except Exception:
+                    pass
+        raise
+    finally:
+        for n in reversed(nodes):
+            try:
+                n.destroy_node()
+            except Exception:
+                pass
+        shutdown_ros()

@@ -61,7 +61,7 @@ def files() -> dict[str, str]:
     """File name -> content of every generated parameter file."""
     from .controller_node import CONTROLLER_SPECS
     from .monitor_specs import MONITOR_SPECS
-    from .plant_node import PLANT_SPECS
+    from .plant_specs import PLANT_SPECS
     return {'plant_sim.yaml': render(PLANT_SPECS, HEADERS['plant_sim.yaml']),
             'controller.yaml': render(CONTROLLER_SPECS, HEADERS['controller.yaml']),
             'monitor.yaml': render(MONITOR_SPECS, HEADERS['monitor.yaml'])}

@@ -137,13 +137,20 @@ class RecorderNode(Node):
 
     def close(self) -> dict:
         """Finish the bag (writes metadata.yaml); returns message counts by topic."""
+        self.done = True
         if self.writer is not None:
             self.writer.close()
             self.writer = None
         return dict(self.counts)
 
     def shutdown(self, reason: str) -> None:
+        """Stop writing (the event loop's safe shutdown); the bag is finished on
+        :meth:`destroy_node`."""
+        self.done = True
+
+    def destroy_node(self):
         self.close()
+        return super().destroy_node()
 
 
 def _msg_class(msgtype: str):
@@ -159,33 +166,31 @@ def record(out, duration_s: float, storage: str = 'sqlite3', topics=DEFAULT_TOPI
     ``{'bag': path, 'counts': {...}, 'stopped': why}``. Initialises and shuts down rclpy."""
     from rclpy.parameter import Parameter
 
-    from .loop import STOP, EventLoop, init_ros, install_stop_handlers, shutdown_ros
-    install_stop_handlers()
-    init_ros(args)
-    rec = None
-    try:
-        overrides = [Parameter('use_sim_time', value=True)] if use_sim_time else []
-        rec = RecorderNode(out, storage, duration_s if use_sim_time else math.inf, topics,
-                           parameter_overrides=overrides)
-        loop = EventLoop([rec])
-        loop.install_signal_handlers()
-        start = time.monotonic()
-        first = None
-        while not loop.stop_reason and not rec.done:
-            loop.spin_once(0.01)
-            now = time.monotonic()
-            if first is None:
-                if rec.receiving:
-                    first = now
-                elif now - start > wait_s:
-                    loop.stop(f'no message on {", ".join(topics)} within {wait_s:g} s')
-            elif not use_sim_time and now - first >= duration_s:
-                break
-        counts = rec.close()
-        return {'bag': str(out), 'counts': counts,
-                'stopped': loop.stop_reason or STOP.reason or 'duration'}
-    finally:
-        if rec is not None:
-            rec.close()
-            rec.destroy_node()
-        shutdown_ros()
+    from .loop import run_nodes
+    made = []
+    overrides = [Parameter('use_sim_time', value=True)] if use_sim_time else []
+
+    def make():
+        made.append(RecorderNode(out, storage, duration_s if use_sim_time else math.inf,
+                                 topics, parameter_overrides=overrides))
+        return made[0]
+
+    clock = {}
+
+    def stop_when() -> str:
+        rec, now = made[0], time.monotonic()
+        clock.setdefault('start', now)
+        if rec.done:
+            return 'duration'
+        if 'first' not in clock:
+            if rec.receiving:
+                clock['first'] = now
+            elif now - clock['start'] > wait_s:
+                return f'no message on {", ".join(topics)} within {wait_s:g} s'
+        elif not use_sim_time and now - clock['first'] >= duration_s:
+            return 'duration'
+        return ''
+
+    reason = run_nodes([make], ros_args=args, stop_when=stop_when)
+    return {'bag': str(out), 'counts': dict(made[0].counts) if made else {},
+            'stopped': reason}

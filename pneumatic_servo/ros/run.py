@@ -13,12 +13,11 @@ import os
 import signal
 import subprocess
 import sys
-import time
 
 from rclpy.parameter import Parameter
 
 from ..errors import ConfigError, PneumaticServoError
-from .loop import EventLoop, init_ros, shutdown_ros
+from .loop import run_nodes
 
 
 def _sim_time(on: bool):
@@ -39,50 +38,6 @@ def make_controller(overrides: dict, use_sim_time: bool = False, namespace: str 
 def make_monitor(overrides: dict, namespace: str = ''):
     from .monitor_node import MonitorNode
     return MonitorNode(overrides=overrides, namespace=namespace)
-
-
-def run_nodes(factories, duration_s: float = math.inf, ros_args=None, on_ready=None) -> str:
-    """Create nodes from ``factories`` (callables), run them in one event loop until a signal
-    or ``duration_s`` [wall s]; then shut every node down safely. Returns why it stopped."""
-    from .loop import STOP, install_stop_handlers
-    install_stop_handlers()
-    init_ros(ros_args)
-    nodes = []
-    loop = None
-    try:
-        for make in factories:
-            nodes.append(make())
-            if STOP.reason:
-                break
-        loop = EventLoop(nodes)
-        loop.install_signal_handlers()
-        if on_ready is not None:
-            on_ready(nodes)
-        try:
-            reason = loop.run(until=time.monotonic() + duration_s)
-        except Exception as exc:  # noqa: BLE001 - every failure ends with the valve safe
-            reason = f'exception: {type(exc).__name__}: {exc}'
-            for n in nodes:
-                n.get_logger().error(reason)
-        loop.shutdown(reason)
-        return reason
-    except BaseException:
-        if loop is None:  # failed while building: whatever exists goes safe
-            for n in reversed(nodes):
-                fn = getattr(n, 'shutdown', None)
-                if fn is not None:
-                    try:
-                        fn('start-up failed')
-                    except Exception:
-                        pass
-        raise
-    finally:
-        for n in reversed(nodes):
-            try:
-                n.destroy_node()
-            except Exception:
-                pass
-        shutdown_ros()
 
 
 def _die_with_parent() -> None:

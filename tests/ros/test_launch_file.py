@@ -7,7 +7,7 @@ from pathlib import Path
 
 from pneumatic_servo.ros.controller_node import CONTROLLER_SPECS
 from pneumatic_servo.ros.monitor_specs import MONITOR_SPECS
-from pneumatic_servo.ros.plant_node import PLANT_SPECS
+from pneumatic_servo.ros.plant_specs import PLANT_SPECS
 
 ROOT = Path(__file__).resolve().parents[2]
 LAUNCH = ROOT / 'launch' / 'pneumatic_servo.launch.py'

@@ -1,5 +1,5 @@
 """What a bag says about itself: its custom data (metadata.yaml), and its topics matched to
-the INTERFACES.md vocabulary (namespaces, remaps, misspellings, the topics a circuit needs).
+the docs/interfaces.md vocabulary (namespaces, remaps, misspellings, the topics a circuit needs).
 """
 from __future__ import annotations
 
@@ -66,7 +66,7 @@ def relative(name: str) -> str:
 
 def match_topics(where: str, names: list[str], namespace: str | None, topic_map, strict: bool
                  ) -> tuple[dict[str, str], str, list[str]]:
-    """Map bag topic names to INTERFACES.md topics (``topic_map``: bag name -> topic, a
+    """Map bag topic names to docs/interfaces.md topics (``topic_map``: bag name -> topic, a
     mapping or pairs).
 
     Returns (interface topic -> bag name, namespace, ignored names).
@@ -113,7 +113,7 @@ def match_topics(where: str, names: list[str], namespace: str | None, topic_map,
                 f"pass topic_map={{'{rel}': '{close[0]}'}}")
         if strict:
             raise ExperimentError(
-                f"{where}: unknown topic '{rel}' (strict mode; INTERFACES.md topics are "
+                f"{where}: unknown topic '{rel}' (strict mode; docs/interfaces.md topics are "
                 f"{', '.join(TOPICS)}); pass strict=False to ignore it")
         ignored.append(rel)
     space = spaces[0] if spaces else ''
@@ -123,13 +123,13 @@ def match_topics(where: str, names: list[str], namespace: str | None, topic_map,
 
 
 def check_types(where: str, found: dict[str, str], connections) -> None:
-    """Refuse a matched topic recorded with another message type than INTERFACES.md's."""
+    """Refuse a matched topic recorded with another message type than docs/interfaces.md's."""
     for topic, name in found.items():
         for conn in (c for c in connections if c.topic == name):
             if conn.msgtype != TOPICS[topic].msgtype:
                 raise ExperimentError(
                     f'{where}: topic {name} has type {conn.msgtype}; expected '
-                    f'{TOPICS[topic].msgtype} (INTERFACES.md)')
+                    f'{TOPICS[topic].msgtype} (docs/interfaces.md)')
 
 
 def check_required(where: str, circuit: str, found: dict[str, str],
@@ -139,7 +139,7 @@ def check_required(where: str, circuit: str, found: dict[str, str],
     for group in REQUIRED[circuit]:
         if not present.intersection(group):
             need = ' or '.join(group)
-            have = ', '.join(sorted(present)) or 'none of the INTERFACES.md topics'
+            have = ', '.join(sorted(present)) or 'none of the docs/interfaces.md topics'
             empty = [t for t in group if t in found]
             what = (f'{empty[0]} has no messages' if empty
                     else f'no {need} topic')

@@ -20,7 +20,7 @@ import numpy as np
 from ...errors import ExperimentError
 from ...experiment import Experiment
 from .. import resample, validate
-from ..codecs import DecodeError, codec_of
+from ..codecs import DecodeError, codec_of, typestore
 from ..topics import CIRCUIT_KEY, DEFAULT_JOINT, REQUIRED, SIGNAL_TOPIC, TOPICS, Topic
 from . import errors, metadata, storage
 
@@ -125,7 +125,7 @@ class _JointPicker:
 
 
 class _Topic:
-    """One bag topic being read: its INTERFACES.md spec, the series its fields feed, and the
+    """One bag topic being read: its docs/interfaces.md spec, the series its fields feed, and the
     messages not decoded yet."""
 
     def __init__(self, name: str, spec: Topic, outputs: list[tuple[str, Series | None]]):
@@ -343,15 +343,15 @@ def read_bag(path, *, circuit: str | None = None, joint: str = DEFAULT_JOINT,
     rate_hz : float, optional [Hz]
         Grid rate; default the fastest measurement topic's median rate.
     time_source : {'header', 'record'}
-        Time sensor messages by ``header.stamp`` (INTERFACES.md) or by record time.
+        Time sensor messages by ``header.stamp`` (docs/interfaces.md) or by record time.
     max_gap_s : float, optional [s]
         Longest stamp interval accepted (default: 20 median intervals, >= 20 ms).
     start_s, stop_s : float, optional [s]
         Read only this window (record time after the bag's first message).
     strict : bool
-        Treat any topic outside INTERFACES.md (and ROS infrastructure) as an error.
+        Treat any topic outside docs/interfaces.md (and ROS infrastructure) as an error.
     topic_map : dict, optional
-        Bag topic name -> INTERFACES.md topic, for bags recorded under other names.
+        Bag topic name -> docs/interfaces.md topic, for bags recorded under other names.
     signals : iterable of str, optional
         Experiment signals to keep (default all recorded); fewer signals, less memory.
     name : str, optional
@@ -384,3 +384,30 @@ def read_series(path, *, joint: str = DEFAULT_JOINT, namespace: str | None = Non
         raise ExperimentError(f'{where}: no measurement topic has any message; record '
                               'joint_states and the pressures')
     return out, got.meta
+
+
+def read_messages(path, topics) -> list[tuple[str, int, object]]:
+    """Every message on ``topics`` (full names) in record order, as (topic, record stamp
+    [ns], message), deserialised with the package's typestore: for topics outside the
+    interface (a monitor's ``/diagnostics`` and ``/monitor/effects``), with the same
+    storage checks and one-line errors as :func:`read_bag`."""
+    path = Path(path)
+    where = str(path)
+    bag = storage.bag_dir(path)
+    store = typestore()
+    out = []
+    try:
+        with storage.open_reader(bag) as reader:
+            use = [c for c in reader.connections if c.topic in set(topics)]
+            for conn, rec, raw in reader.messages(connections=use):
+                try:
+                    msg = store.deserialize_cdr(raw, conn.msgtype)
+                except Exception as exc:  # noqa: BLE001 - any decoder failure: corrupt data
+                    raise errors.decode_error(where, len(out) + 1, conn.topic, conn.msgtype,
+                                              exc) from None
+                out.append((conn.topic, rec, msg))
+    except ExperimentError:
+        raise
+    except errors.storage_exceptions() as exc:
+        raise errors.storage_error(where, exc) from None
+    return out

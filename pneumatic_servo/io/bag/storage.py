@@ -89,7 +89,7 @@ def offered_qos(reliable: bool):
 def add_topic(writer, topic: str, msgtype: str, store, reliable: bool):
     """A connection as rosbag2 records it: the absolute topic name, the type with its
     description hash, the offered QoS. ``store``: rosbags' typestore that knows the type;
-    None for an INTERFACES.md type (its codec knows the definition and hash)."""
+    None for an docs/interfaces.md type (its codec knows the definition and hash)."""
     name = topic if topic.startswith('/') else '/' + topic
     qos = [offered_qos(reliable)]
     if store is None:

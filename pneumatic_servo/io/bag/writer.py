@@ -1,5 +1,5 @@
 """An Experiment (or any messages) written as a standard rosbag2 directory with the
-INTERFACES.md topics, so a generated or simulated experiment looks like a recorded one.
+docs/interfaces.md topics, so a generated or simulated experiment looks like a recorded one.
 
 The messages of each topic are packed all at once by the topic's codec (numpy; the bytes
 rosbags' serialiser gives, tests/test_codecs.py) and written sample by sample, every
@@ -56,7 +56,7 @@ def write_experiment_bag(exp: Experiment, path, storage: str = 'sqlite3',
                          metadata: dict | None = None, *, joint: str = DEFAULT_JOINT,
                          start_time_ns: int | None = None,
                          latency_s: float = DEFAULT_LATENCY_S, compress: bool = False) -> Path:
-    """Write ``exp`` as a rosbag2 directory with the INTERFACES.md topics.
+    """Write ``exp`` as a rosbag2 directory with the docs/interfaces.md topics.
 
     Parameters
     ----------
