@@ -101,12 +101,6 @@ def _skip_string(data, off: int) -> int:
     return off + 4 + n
 
 
-def read_stamp_ns(data) -> int:
-    _check(data)
-    sec, nsec = _STAMP.unpack_from(data, 4)
-    return sec * 1_000_000_000 + nsec
-
-
 def unpack_scalar(data) -> tuple[int, float]:
     """(stamp [ns], value) of a FluidPressure or Temperature."""
     _check(data)

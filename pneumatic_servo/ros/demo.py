@@ -252,10 +252,10 @@ def run_closed_loop_demo(out_dir, controllers=('pid', 'smc'), storage: str = 'sq
 
 
 def main() -> None:  # pragma: no cover - convenience: python -m pneumatic_servo.ros.demo OUT
-    import json
+    from ..jsonable import dumps
     import sys
     res = run_closed_loop_demo(sys.argv[1] if len(sys.argv) > 1 else 'out/closed_loop')
-    print(json.dumps(res, indent=2, default=str))
+    print(dumps(res, indent=2))
 
 
 if __name__ == '__main__':  # pragma: no cover
