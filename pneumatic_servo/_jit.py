@@ -1,9 +1,18 @@
-"""Optional numba compilation.
+"""Optional numba compilation, and the on-disk home of generated compiled modules.
 
 The model runs as plain Python when numba is absent or when
 ``PNEUMATIC_SERVO_JIT=0``; the same source is compiled when numba is present.
+Generated source (a composition's kernel, the generic corrections' hooks) is written
+as a module file under :func:`cache_dir`, so that numba can cache its machine code on
+disk (``cache=True`` needs a file) and a second process loads it at once.
 """
+import hashlib
+import importlib.util
 import os
+import sys
+import tempfile
+from functools import lru_cache
+from pathlib import Path
 
 try:  # numba is a speed-up, never a requirement
     import numba as _numba
@@ -29,3 +38,48 @@ prange = _numba.prange if ENABLED else range
 def is_compiled(func) -> bool:
     """True if ``func`` is already a numba dispatcher (or compilation is off)."""
     return not ENABLED or hasattr(func, 'py_func')
+
+
+def cache_dir() -> Path:
+    """Directory of the generated modules (created; writable or a private temp dir):
+    ``$PNEUMATIC_SERVO_CACHE/kernels`` or ``~/.cache/pneumatic_servo/kernels``."""
+    root = os.environ.get('PNEUMATIC_SERVO_CACHE') or Path.home() / '.cache' / 'pneumatic_servo'
+    path = Path(root) / 'kernels'
+    try:
+        path.mkdir(parents=True, exist_ok=True)
+        probe = tempfile.NamedTemporaryFile(dir=path, prefix='.probe')
+        probe.close()
+        return path
+    except OSError:
+        return _private_dir()
+
+
+@lru_cache(maxsize=1)
+def _private_dir() -> Path:
+    return Path(tempfile.mkdtemp(prefix='pneumatic_servo_kernels_'))
+
+
+def load_generated(name: str, source: str, globals_: dict | None = None):
+    """Import generated ``source`` as module ``name`` from :func:`cache_dir`, writing the
+    file first if it is new (atomically: concurrent writers of one module agree).
+    ``globals_`` are set on the module before it runs (functions it calls by name)."""
+    path = cache_dir() / f'{name}.py'
+    if not path.exists() or path.read_text() != source:
+        tmp = path.with_name(f'.{name}.{os.getpid()}.tmp')
+        tmp.write_text(source)
+        os.replace(tmp, path)
+    spec = importlib.util.spec_from_file_location(name, path)
+    module = importlib.util.module_from_spec(spec)
+    for key, value in (globals_ or {}).items():
+        setattr(module, key, value)
+    sys.modules[name] = module  # so numba and pickling find the module by name
+    spec.loader.exec_module(module)
+    return module
+
+
+def source_key(*parts) -> str:
+    """A short hash of ``parts`` and of what compiled code depends on (Python, numba)."""
+    h = hashlib.sha256()
+    for part in (*parts, sys.version, getattr(_numba, '__version__', 'no numba'), ENABLED):
+        h.update(str(part).encode())
+    return h.hexdigest()[:24]

@@ -20,6 +20,7 @@ import pytest
 
 from pneumatic_servo.fleet import detect_alerts, find_recordings
 from pneumatic_servo.fleet.alerts import FALSE_ALARM_RATE, best_change, judge_series
+from pneumatic_servo.fleet.row import Row
 from pneumatic_servo.fleet.store import RowStore
 from pneumatic_servo.synth.fleet import FRICTION_KEY, SEAL_KEY, FleetDesign, write_fleet
 
@@ -142,10 +143,10 @@ def test_rerun_after_a_kill_finishes_the_rest_without_redoing_any(fleet, tmp_pat
 
 def test_a_half_written_row_is_dropped_and_rewritten(tmp_path):
     path = tmp_path / 'rows.jsonl'
-    path.write_text('{"key": "a", "status": "ok"}\n{"key": "b", "sta')
+    path.write_text('{"key": "a", "path": "a.bag", "status": "ok"}\n{"key": "b", "sta')
     store = RowStore(path)
     assert 'a' in store and 'b' not in store
-    store.add({'key': 'b', 'status': 'ok'})
+    store.add(Row('b.bag', key='b'))
     assert [json.loads(x)['key'] for x in path.read_text().splitlines()] == ['a', 'b']
 
 
@@ -165,10 +166,9 @@ def test_optimistic_stderr_does_not_alarm_a_healthy_rig_but_a_step_does():
     rows = []
     for day in range(12):
         for rig, shift in (('healthy', 0.0), ('stepped', 5.0 if day >= 7 else 0.0)):
-            rows.append({'rig': rig, 'path': f'{rig}/{day}', 'status': 'ok',
-                         'start_time': f'2026-11-{day + 1:02d}T08:00:00+00:00',
-                         'params': {'x.p': {'value': 10 + shift + rng.normal(),
-                                            'stderr': 1e-6}}})  # stderr far too small
+            rows.append(Row(f'{rig}/{day}', rig, f'2026-11-{day + 1:02d}T08:00:00+00:00',
+                            params={'x.p': {'value': 10 + shift + rng.normal(),
+                                            'stderr': 1e-6}}))  # stderr far too small
     alerts = detect_alerts(rows)
     assert [(a.rig, a.kind) for a in alerts] == [('stepped', 'step')]
     assert alerts[0].since.startswith('2026-11-08')
@@ -176,9 +176,8 @@ def test_optimistic_stderr_does_not_alarm_a_healthy_rig_but_a_step_does():
 
 def daily_rows(series: dict[str, list[tuple[float, float]]], key: str = SEAL_KEY) -> list:
     """Fleet rows, one recording a day per rig: ``rig -> [(value, stderr)]`` [SI]."""
-    return [{'rig': rig, 'path': f'{rig}/day_{day:02d}', 'status': 'ok',
-             'start_time': f'2026-11-{day + 2:02d}T08:00:00+00:00',
-             'params': {key: {'value': value, 'stderr': stderr}}}
+    return [Row(f'{rig}/day_{day:02d}', rig, f'2026-11-{day + 2:02d}T08:00:00+00:00',
+                params={key: {'value': value, 'stderr': stderr}})
             for rig, points in series.items() for day, (value, stderr) in enumerate(points)]
 
 

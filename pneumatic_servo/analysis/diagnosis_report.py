@@ -14,12 +14,13 @@ from pathlib import Path
 
 import numpy as np
 
-from ..effects.corrections import BY_EQUATION, REGRESSOR_NAMES, REGRESSORS
+from ..effects.corrections import BY_EQUATION
+from ..effects.terms import BY_NAME as TERMS
 from .diagnosis import predictions
 from .diagnosis.interpret import leading
 from .diagnosis.result import Diagnosis
 from .diagnosis.text import HEADLINES
-from .equation_residual import SHOWN_AS, equation_residual
+from .equation_residual import equation_residual
 from .html import fmt, img, page, table
 from .plots import (
     plot_equation_residual,
@@ -32,7 +33,6 @@ from .report import where_sections
 
 _STYLE = {'consistent': 'ok', 'explained': 'ok', 'partly_explained': 'warn',
           'unexplained': 'bad'}
-_UNITS = {r.name: r.unit for r in REGRESSORS}
 
 
 def _status(result: Diagnosis) -> list[str]:
@@ -128,7 +128,7 @@ def _discovered(out_dir: Path, result: Diagnosis) -> list[str]:
         se = d.to_json()['stderr']
         terms = '<br>'.join(f'{html.escape(r)}: {v:+.4g} &plusmn; {fmt(se.get(r), 2)} '
                             f'{html.escape(BY_EQUATION[d.equation].equation.unit)}'
-                            + ('' if _UNITS[r] == '1' else f'/{html.escape(_UNITS[r])}')
+                            + ('' if TERMS[r].unit == '1' else f'/{html.escape(TERMS[r].unit)}')
                             for r, v in d.terms.items())
         rows.append([html.escape(d.equation), terms, f'{100 * d.error_reduction:+.1f} %',
                      html.escape(d.interpretation)])
@@ -146,7 +146,9 @@ def _discovered(out_dir: Path, result: Diagnosis) -> list[str]:
 def _residual_plot(out_dir: Path, result: Diagnosis, term) -> str | None:
     """The discovered term's equation residual against its leading regressor."""
     reg = leading(term.terms)
-    coef = np.array([term.terms.get(r, 0.0) for r in REGRESSOR_NAMES])
+    eq = BY_EQUATION[term.equation].equation
+    names = [t.name for t in eq.terms]
+    coef = np.array([term.terms.get(r, 0.0) for r in names])
     points = []
     for exp, pred in zip(result.data.experiments, result.base_predictions):
         found = equation_residual(result.baseline.config, exp, pred, term.equation)
@@ -155,12 +157,12 @@ def _residual_plot(out_dir: Path, result: Diagnosis, term) -> str | None:
         res, ok, regs = found
         ok = ok & np.isfinite(res)
         if ok.sum() > 20:
-            points.append((regs[ok, REGRESSOR_NAMES.index(reg)], res[ok], regs[ok] @ coef))
+            points.append((regs[ok, names.index(reg)], res[ok], regs[ok] @ coef))
     if not points:
         return None
-    shown = SHOWN_AS.get(term.equation, term.equation)
+    shown = eq.shown_as or term.equation
     return plot_equation_residual(out_dir, points, shown, reg, BY_EQUATION[shown].equation.unit,
-                                  _UNITS[reg])
+                                  TERMS[reg].unit)
 
 
 def _ranking_table(ranking: list[dict]) -> str:

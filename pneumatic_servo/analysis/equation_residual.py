@@ -5,7 +5,8 @@ lacks there, computed from the measured signals.
   shaft slides and is away from the end stops;
 * ``mass_balance_a``/``_b`` [kg/s]: V / (R T) (measured dp/dt - the model's), the mass flow
   the chamber's pressure rise asks for beyond the modelled flows;
-* ``valve_input``: shown as the mass balance of chamber a (the valve's flow into it);
+* ``valve_input``, ``measurement_supply``: shown as the mass balance of chamber a (the
+  valve's flow into it);
 * ``measurement_*`` [rad, Pa]: the reading minus the k-step prediction.
 
 Derivatives come from Savitzky-Golay fits of the measured signals; the gas temperature from
@@ -15,7 +16,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..effects.corrections import BY_EQUATION, regressor_values
+from ..effects.corrections import BY_EQUATION
+from ..effects.terms import term_values
 from ..effects.layout import C_INERTIA, C_R, C_VA, C_VB, N_CONTEXT, OMEGA, P_A, P_B
 from ..experiment import Experiment
 from ..model.assembly import Model
@@ -28,8 +30,6 @@ from ..smoothing import savgol_filter
 DERIVATIVE_WINDOW_S = 0.031
 #: [rad/s] the shaft slides (friction is the kinetic one) above this speed
 SLIDING_RAD_S = 0.05
-#: equation whose residual stands in for one that has no measurable residual of its own
-SHOWN_AS = {'valve_input': 'mass_balance_a'}
 
 
 def _model_rates(model: Model, config: ModelConfig, exp: Experiment, sig: dict, pred: dict):
@@ -57,24 +57,23 @@ def _model_rates(model: Model, config: ModelConfig, exp: Experiment, sig: dict, 
 
 def equation_residual(config: ModelConfig, exp: Experiment, pred: dict, equation: str
                       ) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
-    """(residual [SI], samples where it is defined, regressors (n, N_REGRESSORS)) of
-    ``equation`` along time series ``exp``, with ``pred`` the model's k-step prediction of
+    """(residual [SI], samples where it is defined, the equation's terms (n, k) in the order
+    of ``Equation.terms``) of ``equation`` along time series ``exp``, with ``pred`` the model's k-step prediction of
     it; None where the record cannot show it."""
     if exp.static or 'command_v' not in exp.signals:
         return None
     sig = smoothed_signals(exp)
     sig.setdefault('supply_pa', np.full(len(exp.t), config.core['supply_pressure_pa']))
     eq = BY_EQUATION[equation].equation
-    regs = regressor_values({**sig, **{k: v for k, v in pred.items()
-                                       if k not in sig and k.endswith('_pa')}},
-                            config.core['atmospheric_pressure_pa'],
-                            config.core['valve_null_voltage_v'])
+    regs = term_values(eq.terms, {**sig, **{k: v for k, v in pred.items()
+                                            if k not in sig and k.endswith('_pa')}},
+                       config.core)
     if eq.signal is not None:
         if eq.signal not in exp.signals or eq.signal not in pred:
             return None
         res = exp[eq.signal] - np.asarray(pred[eq.signal])
         return res, np.isfinite(res), regs
-    equation = SHOWN_AS.get(equation, equation)
+    equation = eq.shown_as or equation
     win = max(5, int(round(DERIVATIVE_WINDOW_S / exp.dt)) | 1)
     if len(exp.t) <= win:
         return None

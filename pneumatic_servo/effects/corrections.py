@@ -1,232 +1,195 @@
-"""Generic correction terms: the vocabulary diagnosis uses when no named effect fits.
+"""Generic corrections: what diagnosis can add where no named effect fits.
 
-A correction adds, to one balance equation or one measurement, a linear
-combination of physically meaningful regressors:
+A correction adds, to one balance equation, one input or one measurement, a
+linear combination of the terms of :mod:`.terms`:
 
-    correction = sum_k  coefficient_k * regressor_k(state, inputs)
+    correction = sum_k  coefficient_k * term_k(state, inputs, memory)
 
 Equations (each a component, named ``correction_<equation>``):
 
 * ``moment_balance``: an extra torque on the shaft [N.m];
 * ``mass_balance_a``, ``mass_balance_b``: an extra mass flow into a chamber [kg/s];
 * ``valve_input``: an extra effective valve command [V];
+* ``measurement_supply`` [Pa]: an error of the supply sensor. The model is fed that
+  reading, so the error acts through the physics: the true supply is the reading less it;
 * ``measurement_angle`` [rad], ``measurement_p_a``, ``measurement_p_b`` [Pa]: a sensor
   error, added to what the sensor reads; it does not feed back into the physics.
 
-Regressors (:data:`REGRESSORS`) are evaluated on the physical state: angle,
-its sine and cosine, velocity and its direction, the chamber pressures and
-their difference, the valve command (minus its centre), its side and size, the
-supply pressure, and the signed square roots of the pressure drops that an
-orifice-like leak follows. Every coefficient is in SI units of the equation per
-unit of the regressor, is zero by default (the correction then adds exactly
-nothing) and is bounded by ten times the size a plausible correction has.
+Every coefficient is in SI units of the equation per unit of its term, is zero by
+default (the correction then adds exactly nothing) and is bounded by ten times the size
+a plausible correction has. A correction whose terms include the command's memory owns
+that memory as a state.
 
-The classes are ``generic``: diagnosis never tries them as named effects; its
-discovery step fits them (``analysis.diagnosis.discovery``).
+The hooks are generated from the terms' expressions (:func:`hook_source`, also what
+``diagnose --emit-effect`` writes) and compiled once per machine. The classes are
+``generic``: diagnosis never tries them as named effects; its discovery step fits them
+(``analysis.diagnosis.discovery``).
 """
 from __future__ import annotations
 
-import math
+import re
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 
-from .._jit import njit
-from .base import Component, Param
-from .layout import (
-    C_PE,
-    C_PS,
-    C_TE,
-    C_TORQUE,
-    C_U,
-    C_XV,
-    K_GAIN,
-    K_HALF_W,
-    K_HOLE_R,
-    K_NULL,
-    OMEGA,
-    P_A,
-    P_B,
-    T_A,
-    T_B,
-    THETA,
-    add_flow,
-)
-
-#: [rad/s] and [V]: the widths over which the direction of motion and the side of the valve
-#: centre change sign (tanh), so that a correction never makes the equations discontinuous
-SIGN_VELOCITY_WIDTH = 0.01
-SIGN_COMMAND_WIDTH = 0.02
-
-
-@dataclass(frozen=True)
-class Regressor:
-    """A candidate term: its name, SI unit, a typical magnitude on a rig, and what it is."""
-
-    name: str
-    unit: str
-    typical: float
-    description: str
-
-
-REGRESSORS = (
-    Regressor('constant', '1', 1.0, 'one (a constant term)'),
-    Regressor('angle', 'rad', 1.6, 'shaft angle'),
-    Regressor('sin_angle', '1', 1.0, 'sine of the shaft angle'),
-    Regressor('cos_angle', '1', 1.0, 'cosine of the shaft angle'),
-    Regressor('velocity', 'rad/s', 2.0, 'shaft speed'),
-    Regressor('sign_velocity', '1', 1.0, 'direction of motion'),
-    Regressor('p_a', 'Pa', 4e5, 'chamber a pressure (absolute)'),
-    Regressor('p_b', 'Pa', 4e5, 'chamber b pressure (absolute)'),
-    Regressor('pressure_difference', 'Pa', 3e5, 'p_a - p_b'),
-    Regressor('command', 'V', 1.0, 'valve command minus its centre (5 V)'),
-    Regressor('sign_command', '1', 1.0, 'side of the valve centre the command is on'),
-    Regressor('abs_command', 'V', 1.0, 'distance of the command from the valve centre'),
-    Regressor('supply', 'Pa', 7e5, 'supply pressure (absolute)'),
-    Regressor('sqrt_drop_a', 'Pa^0.5', 600.0,
-              'signed square root of p_a - p_atm (an orifice from chamber a to atmosphere)'),
-    Regressor('sqrt_drop_b', 'Pa^0.5', 600.0,
-              'signed square root of p_b - p_atm (an orifice from chamber b to atmosphere)'),
-    Regressor('sqrt_pressure_difference', 'Pa^0.5', 550.0,
-              'signed square root of p_a - p_b (an orifice between the chambers)'),
-)
-REGRESSOR_NAMES = tuple(r.name for r in REGRESSORS)
-N_REGRESSORS = len(REGRESSORS)
-
-
-@njit(cache=True)
-def _signed_sqrt(x):
-    return math.copysign(math.sqrt(abs(x)), x)
-
-
-@njit(cache=True)
-def fill_regressors(angle, velocity, p_a, p_b, p_atm, command, supply, out):
-    """Write the value of every regressor, in the order of :data:`REGRESSORS`, into ``out``.
-
-    ``command`` is the valve command minus its centre [V]; the rest are SI.
-    """
-    out[0] = 1.0
-    out[1] = angle
-    out[2] = math.sin(angle)
-    out[3] = math.cos(angle)
-    out[4] = velocity
-    out[5] = math.tanh(velocity / SIGN_VELOCITY_WIDTH)
-    out[6] = p_a
-    out[7] = p_b
-    out[8] = p_a - p_b
-    out[9] = command
-    out[10] = math.tanh(command / SIGN_COMMAND_WIDTH)
-    out[11] = abs(command)
-    out[12] = supply
-    out[13] = _signed_sqrt(p_a - p_atm)
-    out[14] = _signed_sqrt(p_b - p_atm)
-    out[15] = _signed_sqrt(p_a - p_b)
-
-
-@njit(cache=True)
-def _term(x, c, P, p):
-    """sum_k p[k] * regressor_k at the state ``x`` and the inputs in the context ``c``."""
-    reg = np.empty(N_REGRESSORS)
-    fill_regressors(x[THETA], x[OMEGA], x[P_A], x[P_B], c[C_PE], c[C_U] - P[K_NULL], c[C_PS],
-                    reg)
-    total = 0.0
-    for k in range(N_REGRESSORS):
-        total += p[k] * reg[k]
-    return total
-
-
-@njit(cache=True)
-def _fill_many(angle, velocity, p_a, p_b, p_atm, command, supply, out):
-    for i in range(len(angle)):
-        fill_regressors(angle[i], velocity[i], p_a[i], p_b[i], p_atm, command[i], supply[i],
-                        out[i])
-
-
-def regressor_values(signals: dict, p_atm: float, valve_null_v: float) -> np.ndarray:
-    """(n, N_REGRESSORS) regressors over a record from its signals [SI]: ``angle_rad``,
-    ``velocity_rad_s``, ``p_a_pa``, ``p_b_pa``, ``command_v`` and ``supply_pa`` (absent ones
-    count as zero; a missing p_b as atmosphere)."""
-    n = len(next(iter(signals.values())))
-
-    def get(name, default=0.0):
-        v = signals.get(name)
-        return np.full(n, default) if v is None else np.ascontiguousarray(v, dtype=float)
-
-    out = np.empty((n, N_REGRESSORS))
-    _fill_many(get('angle_rad'), get('velocity_rad_s'), get('p_a_pa', p_atm),
-               get('p_b_pa', p_atm), float(p_atm), get('command_v', valve_null_v) - valve_null_v,
-               get('supply_pa', p_atm), out)
-    return out
+from .. import _jit
+from . import layout, terms
+from .base import Component, Param, State
+from .terms import Term, offered, term_values
 
 
 @dataclass(frozen=True)
 class Equation:
     """Where a correction acts: its unit, the size [SI] of a plausible correction, what it
-    adds, and the measured signal a sensor error shows in (None for a balance equation)."""
+    adds, the measured signal a sensor error shows in (None where it acts through the
+    physics), and for those the hook stage, the statement that adds ``term`` and the
+    order within the stage."""
 
     name: str
     unit: str
     size: float
     description: str
     signal: str | None = None
+    stage: str = ''
+    statement: str = ''
+    order: int = 50
+    acts_on: str = 'both'
+    circuits: tuple[str, ...] = ('servo', 'blocked', 'closed_port', 'flow')
+    #: the equation whose residual a report shows for this one, where it has no measurable
+    #: residual of its own (a valve or supply error shows in chamber a's mass balance)
+    shown_as: str = ''
+
+    @property
+    def terms(self) -> tuple[Term, ...]:
+        """The terms offered in this equation, in the order of its parameters."""
+        return offered(self.name, self.signal is not None)
+
+    @property
+    def memory(self) -> bool:
+        return any(t.memory for t in self.terms)
 
 
 EQUATIONS = (
-    Equation('moment_balance', 'N.m', 1.0, 'an extra torque on the shaft'),
-    Equation('mass_balance_a', 'kg/s', 5e-5, 'an extra mass flow into chamber a'),
-    Equation('mass_balance_b', 'kg/s', 5e-5, 'an extra mass flow into chamber b'),
-    Equation('valve_input', 'V', 0.5, 'an extra effective valve command'),
+    Equation('moment_balance', 'N.m', 1.0, 'an extra torque on the shaft',
+             stage='mechanics', statement='c[C_TORQUE] += term', acts_on='angle',
+             circuits=('servo',)),
+    Equation('mass_balance_a', 'kg/s', 5e-5, 'an extra mass flow into chamber a',
+             stage='flows', statement='add_flow(c, 0, term, c[C_TE], x[T_A])',
+             acts_on='pressure'),
+    Equation('mass_balance_b', 'kg/s', 5e-5, 'an extra mass flow into chamber b',
+             stage='flows', statement='add_flow(c, 1, term, c[C_TE], x[T_B])',
+             acts_on='pressure', circuits=('servo', 'blocked')),
+    Equation('valve_input', 'V', 0.5, 'an extra effective valve command', stage='valve',
+             statement='lim = P[K_HALF_W] + P[K_HOLE_R]\n'
+                       '    c[C_XV] = min(max(c[C_XV] + P[K_GAIN] * term, -lim), lim)',
+             order=15, shown_as='mass_balance_a'),
+    Equation('measurement_supply', 'Pa', 2e4, 'an error of the supply pressure sensor '
+             '(the model is fed its reading)', stage='supply',
+             statement='c[C_PS] -= term\n    c[C_PS_REG] -= term', order=10,
+             shown_as='mass_balance_a'),
     Equation('measurement_angle', 'rad', 0.05, 'an error of the angle sensor', 'angle_rad'),
     Equation('measurement_p_a', 'Pa', 2e4, 'an error of the chamber a pressure sensor',
              'p_a_pa'),
     Equation('measurement_p_b', 'Pa', 2e4, 'an error of the chamber b pressure sensor',
              'p_b_pa'),
 )
+BY_NAME = {eq.name: eq for eq in EQUATIONS}
 
 
-def coefficient_name(regressor: str) -> str:
-    return f'{regressor}_coefficient'
+def coefficient_name(term: str) -> str:
+    return f'{term}_coefficient'
 
 
 def _params(eq: Equation) -> tuple[Param, ...]:
     out = []
-    for r in REGRESSORS:
-        size = eq.size / r.typical
-        unit = eq.unit if r.unit == '1' else '1' if r.unit == eq.unit else f'{eq.unit}/{r.unit}'
-        out.append(Param(coefficient_name(r.name), unit, 0.0, -10.0 * size, 10.0 * size,
-                         f'{eq.description} per unit of {r.description}', fit=False,
+    for t in eq.terms:
+        size = eq.size / t.typical
+        unit = eq.unit if t.unit == '1' else '1' if t.unit == eq.unit else f'{eq.unit}/{t.unit}'
+        out.append(Param(coefficient_name(t.name), unit, 0.0, -10.0 * size, 10.0 * size,
+                         f'{eq.description} per unit of {t.words}', fit=False,
                          plausible=(-size, size)))
     return tuple(out)
 
 
-# --- hooks, one per equation ------------------------------------------------------------
-@njit(cache=True)
-def _moment_hook(t, x, s, p, P, c, dx):
-    c[C_TORQUE] += _term(x, c, P, p)
+# --- the generated source: one function per equation, from the terms' expressions -------
+#: names a generated hook may use, and where they are imported from
+_LAYOUT_NAMES = ('THETA', 'OMEGA', 'P_A', 'P_B', 'T_A', 'T_B', 'C_PE', 'C_U', 'C_PS',
+                 'C_PS_REG', 'C_TE', 'C_TORQUE', 'C_XV', 'K_NULL', 'K_STROKE', 'K_GAIN',
+                 'K_HALF_W', 'K_HOLE_R', 'add_flow')
+_TERM_NAMES = ('signed_sqrt', 'window', 'memory_direction', 'memory_rate', 'COMMAND_PLAY_V',
+               'direction', 'MOTION_PLAY_RAD')
 
 
-@njit(cache=True)
-def _mass_a_hook(t, x, s, p, P, c, dx):
-    add_flow(c, 0, _term(x, c, P, p), c[C_TE], x[T_A])
+def _used(text: str, names) -> list[str]:
+    return [n for n in names if re.search(rf'\b{n}\b', text)]
 
 
-@njit(cache=True)
-def _mass_b_hook(t, x, s, p, P, c, dx):
-    add_flow(c, 1, _term(x, c, P, p), c[C_TE], x[T_B])
+def hook_source(eq: Equation, used: list[Term], name: str = '_correction') -> str:
+    """Source of the compiled hook adding ``sum_i p[i] * used[i]`` to ``eq``."""
+    variables = [v for v in terms.VARIABLES if any(v.name in t.variables for t in used)]
+    lines = [f'def {name}(t, x, s, p, P, c, dx):',
+             f'    """Add the correction: {eq.description} [{eq.unit}]."""',
+             *(f'    {v.name} = {v.compiled}' for v in variables),
+             '    term = ' + (' + '.join(f'p[{i}] * {t.expression}' for i, t in enumerate(used))
+                             or '0.0')]
+    if any(t.memory for t in used):
+        lines.append('    dx[s] = memory_rate(c[C_U] - x[s], COMMAND_PLAY_V)')
+    lines.append(f'    {eq.statement}')
+    return '\n'.join(lines) + '\n'
 
 
-@njit(cache=True)
-def _valve_hook(t, x, s, p, P, c, dx):
-    lim = P[K_HALF_W] + P[K_HOLE_R]
-    c[C_XV] = min(max(c[C_XV] + P[K_GAIN] * _term(x, c, P, p), -lim), lim)
+def sensor_source(eq: Equation, used: list[Term], name: str = '_sensor_error') -> str:
+    """Source of the sensor error ``sum_k values[<term>_coefficient] * term_k`` of ``eq``
+    over a record's arrays (the form ``Component.sensor_error`` takes)."""
+    variables = [v for v in terms.VARIABLES if any(v.name in t.variables for t in used)]
+    total = ' + '.join(f"values['{coefficient_name(t.name)}'] * {t.expression}" for t in used)
+    return (f'def {name}(values, signals, core):\n'
+            f'    """What the sensor adds to its reading of {eq.signal} [SI]."""\n'
+            + ''.join(f'    {v.name} = {v.array}\n' for v in variables)
+            + "    n = len(next(iter(signals.values())))\n"
+            f"    return {{'{eq.signal}': np.zeros(n) + ({total or '0.0'})}}\n")
 
 
-def _sensor(signal: str):
+def imports(source: str) -> str:
+    """The import lines a generated function needs."""
+    out = 'import numpy as np\n\n' if 'np.' in source else ''
+    lay, fun = _used(source, _LAYOUT_NAMES), _used(source, _TERM_NAMES)
+    if lay:
+        out += f'from pneumatic_servo.effects.layout import {", ".join(lay)}\n'
+    if fun:
+        out += f'from pneumatic_servo.effects.terms import {", ".join(fun)}\n'
+    return out
+
+
+def _compiled_hooks() -> dict:
+    """The hooks of every equation that acts through the physics, compiled from one
+    generated module (cached on disk like the kernels)."""
+    body = ''.join('\n\n@njit(cache=True)\n' + hook_source(eq, list(eq.terms), f'hook_{eq.name}')
+                   for eq in EQUATIONS if eq.signal is None)
+    source = ('"""Generated by pneumatic_servo.effects.corrections: do not edit."""\n'
+              + imports(body) + 'from pneumatic_servo._jit import njit\n' + body)
+    # the layout's indices and the terms' functions are compiled in as constants: their
+    # source is part of the key, so that an edit never loads stale machine code
+    key = _jit.source_key(source, Path(layout.__file__).read_text(),
+                          Path(terms.__file__).read_text())
+    module = _jit.load_generated(f'pneumatic_servo_corrections_{key}', source)
+    return {eq.name: getattr(module, f'hook_{eq.name}') for eq in EQUATIONS
+            if eq.signal is None}
+
+
+def _sensor(eq: Equation):
+    used = list(eq.terms)
+
     def sensor_error(values: dict, signals: dict, core: dict) -> dict:
-        reg = regressor_values(signals, core['atmospheric_pressure_pa'],
-                               core['valve_null_voltage_v'])
-        coef = np.array([values[coefficient_name(r)] for r in REGRESSOR_NAMES])
-        return {signal: reg @ coef}
+        # the terms in use only: a zero coefficient adds nothing, not even a missing sample
+        on = [(t, values[coefficient_name(t.name)]) for t in used
+              if values[coefficient_name(t.name)] != 0.0]
+        n = len(next(iter(signals.values())))
+        if not on:
+            return {eq.signal: np.zeros(n)}
+        return {eq.signal: term_values([t for t, _ in on], signals, core)
+                @ np.array([c for _, c in on])}
     return sensor_error
 
 
@@ -242,25 +205,33 @@ class Correction(Component):
         """Only the terms in use are refitted when the model is diagnosed again."""
         return [k for k, v in values.items() if v != 0.0]
 
+    @classmethod
+    def initial_state(cls, values, command_v, supply_pa, core):
+        # the command's memory starts at the command: no direction yet
+        return [float(command_v)] * len(cls.states)
 
-def _correction_class(eq: Equation, **hooks) -> type[Component]:
+
+#: the command's memory: a millivolt is finer than any valve's resolution
+MEMORY_STATE = State('command_memory_v', 'V', 1e-3, 'the command as last left by its play '
+                     '(the memory of the direction it moved in)')
+
+
+def _correction_class(eq: Equation, hooks: dict) -> type[Component]:
     params = _params(eq)
     attrs = {'name': f'correction_{eq.name}', 'equation': eq, 'params': params,
-             'neutral': {p.name: 0.0 for p in params},
+             'neutral': {p.name: 0.0 for p in params}, 'acts_on': eq.acts_on,
+             'circuits': eq.circuits, 'order': eq.order,
+             'states': (MEMORY_STATE,) if eq.memory else (),
              '__doc__': f'Generic correction: {eq.description} [{eq.unit}], a linear '
-                        'combination of the regressors.', **hooks}
+                        'combination of the terms.'}
+    if eq.signal is None:
+        attrs[eq.stage] = hooks[eq.name]
+    else:
+        attrs['sensor_error'] = staticmethod(_sensor(eq))
     return type(f'Correction_{eq.name}', (Correction,), attrs)
 
 
-CORRECTIONS = (
-    _correction_class(EQUATIONS[0], acts_on='angle', circuits=('servo',),
-                      mechanics=_moment_hook),
-    _correction_class(EQUATIONS[1], acts_on='pressure', flows=_mass_a_hook),
-    _correction_class(EQUATIONS[2], acts_on='pressure', circuits=('servo', 'blocked'),
-                      flows=_mass_b_hook),
-    _correction_class(EQUATIONS[3], order=15, valve=_valve_hook),
-    *(_correction_class(eq, sensor_error=staticmethod(_sensor(eq.signal)))
-      for eq in EQUATIONS[4:]),
-)
+_HOOKS = _compiled_hooks()
+CORRECTIONS = tuple(_correction_class(eq, _HOOKS) for eq in EQUATIONS)
 #: equation name -> its correction component
 BY_EQUATION = {cls.equation.name: cls for cls in CORRECTIONS}

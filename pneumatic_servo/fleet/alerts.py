@@ -32,6 +32,8 @@ import numpy as np
 from scipy.special import chdtrc, fdtrc
 from scipy.stats import f as f_dist
 
+from .row import Row
+
 #: probability that a healthy rig's parameter raises an alert in one run
 FALSE_ALARM_RATE = 0.01
 #: recordings needed after a change point (a single odd recording is not a change)
@@ -292,17 +294,17 @@ class Series:
         return stderr_fit(self.x[ok], self.values[ok], self.stderr[ok])[1]
 
 
-def collect_series(rows: list[dict]) -> dict[tuple[str, str], Series]:
+def collect_series(rows: list[Row]) -> dict[tuple[str, str], Series]:
     """``(rig, key) -> Series`` of the tracked parameters of the ok rows."""
     points: dict[tuple[str, str], list] = {}
     for row in rows:
-        if row.get('status') != 'ok':
+        if row.status != 'ok':
             continue
-        for key, est in (row.get('params') or {}).items():
+        for key, est in row.params.items():
             if est.get('value') is None:
                 continue
-            points.setdefault((row['rig'], key), []).append(
-                (row.get('start_time') or '', row['path'], est['value'],
+            points.setdefault((row.rig, key), []).append(
+                (row.start_time or '', row.path, est['value'],
                  np.nan if est.get('stderr') is None else est['stderr']))
     series = {}
     for name, pts in points.items():
@@ -323,8 +325,9 @@ def pool_others(scatters: dict[tuple[str, str], tuple[float, int] | None],
     return sum(s[0] for s in found), sum(s[1] for s in found)
 
 
-def detect_alerts(rows: list[dict], describe_param=None) -> list[Alert]:
-    """Alerts over the tracked parameters of ``rows`` (fleet rows with ``status`` ok).
+def detect_alerts(rows: list[Row], describe_param=None) -> list[Alert]:
+    """Alerts over the tracked parameters of ``rows`` (:class:`~.row.Row`, those with
+    ``status`` ok).
 
     ``describe_param(key) -> (label, unit)`` names a parameter for the alert text
     (default: its key, SI).

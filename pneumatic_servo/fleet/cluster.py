@@ -119,7 +119,7 @@ def run_fleet(recordings: list[Recording], config: ModelConfig,
             client.close()
             if cluster is not None:
                 cluster.close()
-    rows = [Row.from_json(store.rows[k]) if k in store else lost[k] for k in keys]
-    alerts = detect_alerts([r.to_json() for r in rows],
+    rows = [store.rows[k] if k in store else lost[k] for k in keys]
+    alerts = detect_alerts(rows,
                            parameter_names(config, options.task.track))
     return FleetResult(rows, alerts, len(todo))

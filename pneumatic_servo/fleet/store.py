@@ -11,6 +11,7 @@ import os
 from pathlib import Path
 
 from ..jsonable import dumps
+from .row import Row
 
 
 class RowStore:
@@ -19,7 +20,7 @@ class RowStore:
 
     def __init__(self, path):
         self.path = Path(path)
-        self.rows: dict[str, dict] = {}
+        self.rows: dict[str, Row] = {}
         if self.path.exists():
             self._read()
 
@@ -31,9 +32,9 @@ class RowStore:
                     row = json.loads(line)
                 except ValueError:
                     break  # the line a killed run left half written, and anything after it
-                if not isinstance(row, dict) or 'key' not in row:
-                    break
-                self.rows[row['key']] = row
+                if not isinstance(row, dict) or 'key' not in row or 'path' not in row:
+                    break  # not a row: the store ends before it
+                self.rows[row['key']] = Row.from_json(row)
                 good += len(line)
         if good != self.path.stat().st_size:
             with self.path.open('r+b') as f:
@@ -42,14 +43,12 @@ class RowStore:
     def __contains__(self, key: str) -> bool:
         return key in self.rows
 
-    def add(self, row) -> None:
-        """Append ``row`` (a :class:`~.row.Row` or its JSON form) and make it durable before
-        returning."""
-        row = row.to_json() if hasattr(row, 'to_json') else row
+    def add(self, row: Row) -> None:
+        """Append ``row`` and make it durable before returning."""
         self.path.parent.mkdir(parents=True, exist_ok=True)
         with self.path.open('a', encoding='utf-8') as f:
-            f.write(dumps(row, sort_keys=True) + '\n')
+            f.write(dumps(row.to_json(), sort_keys=True) + '\n')
             f.flush()
             os.fsync(f.fileno())
-        self.rows[row['key']] = row
+        self.rows[row.key] = row
 

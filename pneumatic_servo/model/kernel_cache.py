@@ -17,11 +17,8 @@ directory is used, which still works but does not persist.
 from __future__ import annotations
 
 import hashlib
-import importlib.util
 import inspect
-import os
 import sys
-import tempfile
 from functools import lru_cache
 from pathlib import Path
 
@@ -33,24 +30,6 @@ from ..effects.base import STAGES
 _PACKAGE = Path(__file__).resolve().parents[1]
 _TEMPLATE = Path(__file__).with_name('kernel_template.py')
 _BEGIN, _END = '# COMPOSITION BEGIN\n', '# COMPOSITION END\n'
-
-
-def cache_dir() -> Path:
-    """Directory of the generated kernel modules (created; writable or a private temp dir)."""
-    root = os.environ.get('PNEUMATIC_SERVO_CACHE') or Path.home() / '.cache' / 'pneumatic_servo'
-    path = Path(root) / 'kernels'
-    try:
-        path.mkdir(parents=True, exist_ok=True)
-        probe = tempfile.NamedTemporaryFile(dir=path, prefix='.probe')
-        probe.close()
-        return path
-    except OSError:
-        return _private_dir()
-
-
-@lru_cache(maxsize=1)
-def _private_dir() -> Path:
-    return Path(tempfile.mkdtemp(prefix='pneumatic_servo_kernels_'))
 
 
 @lru_cache(maxsize=1)
@@ -113,19 +92,10 @@ def load(layout) -> dict:
     """Kernels of ``layout`` (``rhs``, ``fixed_interval``, ``adaptive_interval``, ``run``,
     ``run_batch``) from its cached module, writing the module first if it is new."""
     source = module_source(layout)
-    name = f'pneumatic_servo_kernel_{_key(layout, source)}'
-    path = cache_dir() / f'{name}.py'
-    if not path.exists() or path.read_text() != source:
-        tmp = path.with_name(f'.{name}.{os.getpid()}.tmp')
-        tmp.write_text(source)
-        os.replace(tmp, path)  # atomic: concurrent writers of one composition agree
-    spec = importlib.util.spec_from_file_location(name, path)
-    module = importlib.util.module_from_spec(spec)
-    for i, cls in enumerate(layout.classes):  # the hooks, as globals of the module
-        for stage in STAGES:
-            if cls.hook(stage) is not None:
-                setattr(module, f'_hook_{i}_{stage}', cls.hook(stage))
-    sys.modules[name] = module  # so numba and pickling find the module by name
-    spec.loader.exec_module(module)
+    hooks = {f'_hook_{i}_{stage}': cls.hook(stage)  # the hooks, as globals of the module
+             for i, cls in enumerate(layout.classes) for stage in STAGES
+             if cls.hook(stage) is not None}
+    module = _jit.load_generated(f'pneumatic_servo_kernel_{_key(layout, source)}', source,
+                                 hooks)
     return {k: getattr(module, k) for k in
             ('rhs', 'fixed_interval', 'adaptive_interval', 'run', 'run_batch')}

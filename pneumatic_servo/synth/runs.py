@@ -226,7 +226,9 @@ def closed_loop(model: Model, config: ModelConfig, setpoint_rad: np.ndarray, x0:
     at ``command_v`` [V].
 
     The law sees what the sensors show (the components' measurement delays and sensor
-    errors): the quantised encoder angle, the encoder velocity over
+    errors, each evaluated at the sample alone; the recorded ``shown`` states evaluate them
+    over the whole record, so a sensor error with memory, such as play, is recorded with
+    it): the quantised encoder angle, the encoder velocity over
     ``sensors.velocity_window_s`` if the DAQ computes one (``velocity``; otherwise the law
     differentiates the angle), the chamber pressures without their noise, and the supply.
 
@@ -246,8 +248,9 @@ def closed_loop(model: Model, config: ModelConfig, setpoint_rad: np.ndarray, x0:
     u, angles = np.empty(n), np.empty(n)
     shown, physical = np.empty((n, model.n_states)), np.empty((n, model.n_states))
     seen, before = np.array(x0, dtype=float), command_v
+    seen_all = np.empty((n, model.n_states))
     for k in range(n):
-        physical[k] = plant.x
+        physical[k], seen_all[k] = plant.x, seen
         shown[k] = measured_states(model, config, np.zeros(1), seen[None], np.array([before]),
                                    np.array([supply_pa]))[0] if errors else seen
         angles[k] = S.quantise(shown[k, THETA], sensors.encoder_step_rad)
@@ -258,6 +261,10 @@ def closed_loop(model: Model, config: ModelConfig, setpoint_rad: np.ndarray, x0:
         u[k] = before = law.update(k * dt, Reference(float(setpoint_rad[k])), m)
         if k < n - 1:
             seen = plant.step(u[k])
+    if errors:  # over the whole record: the same values where an error has no memory
+        shown = measured_states(model, config, np.arange(n) * dt, seen_all,
+                                np.concatenate([[command_v], u[:-1]]),
+                                np.full(n, supply_pa))
     return u, shown, physical
 
 

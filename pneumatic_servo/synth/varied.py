@@ -24,7 +24,7 @@ from ..control.reference import Reference
 from ..experiment import Experiment
 from ..model.assembly import Model
 from ..model.config import ModelConfig
-from ..model.simulate import DEFAULT_RTOL, Stepper, initial_state, simulate
+from ..model.simulate import DEFAULT_RTOL, Stepper, initial_state, measured_states, simulate
 from . import sensors as S
 from .hidden import SUPPLY_PA, hidden_config
 
@@ -144,6 +144,9 @@ def make_record(rec: Record, base: ModelConfig | None = None) -> Experiment:
         states = simulate(model, t, u, SUPPLY_PA, x0=x0, config=cfg, measured=False,
                           method='adaptive' if method == 'adaptive' else 'fixed',
                           rtol=DEFAULT_RTOL * factor, substeps=rk4_substeps(rec.rate_hz)).states
+    # the hidden effects' sensor errors, over the whole record (the loop's controller sees the
+    # physical angle and pressures: a sensor error does not act back through it here)
+    states = measured_states(model, cfg, t, states, u, np.full(len(t), SUPPLY_PA))
     keep = slice(int(round(run_in * rec.rate_hz)), None)
     t_rec = t[keep] - t[keep][0]
     true = {'supply_pa': np.full(len(t_rec), SUPPLY_PA), 'angle_rad': states[keep, 0],

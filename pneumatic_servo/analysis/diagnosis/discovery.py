@@ -2,11 +2,11 @@
 physics lives.
 
 Every generic correction of :mod:`pneumatic_servo.effects.corrections` (one per
-balance equation and measurement, each a linear combination of the
-regressors) is tried through the real simulator, with the same split,
+balance equation, input and measurement, each a linear combination of the terms
+of :mod:`pneumatic_servo.effects.terms` offered there) is tried through the real simulator, with the same split,
 residuals and criteria as the named effects:
 
-1. **Screen** (one batch): each (equation, regressor) coefficient is stepped
+1. **Screen** (one batch): each (equation, term) coefficient is stepped
    once from zero; the change of the fitted and held-out residuals is its
    sensitivity. Per equation, a forward selection of at most ``max_terms``
    regressors fits the fit-part residual with these sensitivities (linear
@@ -27,7 +27,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ...effects.corrections import BY_EQUATION, EQUATIONS, REGRESSORS, coefficient_name
+from ...effects.corrections import BY_EQUATION, EQUATIONS, coefficient_name
+from ...effects.terms import BY_NAME as TERMS
 from ...fitting import residual_rows, stack
 from ...fitting.problem import with_values
 from ...model.assembly import Model
@@ -44,6 +45,9 @@ from .scoring import information_criteria, relative_fall, score_many
 SCREEN_STEP = 0.05
 #: single terms of each equation refined through the simulator before the selection
 LEADING_PER_EQUATION = 4
+#: BIC difference below which two models are not told apart ("not worth more than a bare
+#: mention", Kass and Raftery 1995, J. Am. Stat. Assoc. 90:773)
+BIC_TIE = 2.0
 
 
 def terms_of(params: dict[str, float]) -> dict[str, float]:
@@ -91,7 +95,7 @@ def _key(equation: str, regressor: str) -> str:
 
 
 @dataclass(frozen=True)
-class Screened:
+class ScreenedEquation:
     """One equation after the linear screen: its best regressors and their coefficients [SI],
     and the held-out error reduction the linearisation predicts."""
 
@@ -100,6 +104,10 @@ class Screened:
     start: dict[str, float]
     reduction: float
     bic: float = field(default=0.0)
+    #: the best set of plain terms (cost 1 each), where the best set holds a window, a
+    #: product or a memory: the linear screen's small steps can favour those, so both are
+    #: fitted through the simulator and the better kept
+    plain: ScreenedEquation | None = None
 
 
 def _residuals(model, host, keys, values, parts) -> list[np.ndarray]:
@@ -124,8 +132,8 @@ def _slope_fit(r: np.ndarray, s: np.ndarray) -> float:
 
 def _distinct(S: np.ndarray, order: list[int], limit: float = 0.999) -> list[int]:
     """``order`` without the columns that are (nearly) parallel to an earlier one: over
-    these data the two regressors are the same term (a constant supply is a constant), and
-    the simpler one, first in :data:`REGRESSORS`, is kept."""
+    these data the two terms are the same (a constant supply is a constant), and the
+    simpler one, first in the equation's terms, is kept."""
     kept = []
     norms = np.linalg.norm(S, axis=0)
     for j in sorted(order):
@@ -136,7 +144,7 @@ def _distinct(S: np.ndarray, order: list[int], limit: float = 0.999) -> list[int
     return [j for j in order if j in kept]
 
 
-def _leading_terms(model, host, keys, r_fit, S_fit, data, per_equation: int):
+def _leading_terms(model, host, keys, r_fit, S_fit, data, blocks, per_equation: int):
     """The best single term of each equation, refined through the simulator.
 
     The screening slope is taken at a small step; an effect of plausible size
@@ -147,10 +155,8 @@ def _leading_terms(model, host, keys, r_fit, S_fit, data, per_equation: int):
 
     Returns, per candidate column: (coefficient, fit residual, held-out residual).
     """
-    n_reg = len(REGRESSORS)
     cols = []
-    for i in range(len(EQUATIONS)):
-        block = list(range(i * n_reg, (i + 1) * n_reg))
+    for block in blocks:
         rss = {j: float(np.sum((r_fit + S_fit[:, j] * _slope_fit(r_fit, S_fit[:, j])) ** 2))
                for j in block if np.any(S_fit[:, j])}
         best = sorted(rss, key=rss.get)
@@ -169,69 +175,90 @@ def _leading_terms(model, host, keys, r_fit, S_fit, data, per_equation: int):
     return {j: (c, rf, rv) for j, c, rf, rv in zip(cols, coef, at_fit, at_val)}
 
 
-def _forward_selection(lead, S_fit, S_val, block, base_val: float, n_eff: float,
+def _forward_selection(lead, S_fit, S_val, block, costs, base_val: float, n_eff: float,
                        max_terms: int):
-    """From the best refined single term of an equation, add terms (linear in the screening
-    slopes) while the held-out BIC improves: (columns, coefficients, held-out RSS, BIC)."""
-    # the leading term by its held-out residual, as named effects are ranked: where the data
-    # cannot tell two regressors apart on the fitted part, the one that predicts wins
-    first = min((j for j in lead if j in block), key=lambda j: float(lead[j][2] @ lead[j][2]),
-                default=None)
-    if first is None:
+    """From the leading refined single term of an equation, add terms (linear in the
+    screening slopes) while the held-out BIC improves: (columns, coefficients, held-out
+    RSS, BIC). Each column counts as ``costs[column]`` parameters (:attr:`Term.cost`), so a
+    window or a product leads only where it predicts clearly better than a plain term. The
+    leading term is the simplest (first in the vocabulary) whose held-out BIC is within
+    :data:`BIC_TIE` of the best: closer than that, the data do not tell them apart."""
+    def bic(j):
+        r_val = lead[j][2]
+        return information_criteria(base_val, float(r_val @ r_val), costs[j], n_eff)[1]
+    starts = [j for j in lead if j in block]
+    if not starts:
         return [], np.zeros(0), base_val, 0.0
+    best = min(bic(j) for j in starts)
+    first = min(j for j in starts if bic(j) <= best + BIC_TIE)
+    return _path(first, lead, S_fit, S_val, block, costs, base_val, n_eff, max_terms)
+
+
+def _path(first, lead, S_fit, S_val, block, costs, base_val, n_eff, max_terms):
+    """Forward selection from the refined term ``first`` (see :func:`_forward_selection`)."""
+    def bic(rss, cols):
+        return information_criteria(base_val, rss, sum(costs[j] for j in cols), n_eff)[1]
+
     c0, r_fit, r_val = lead[first]
-
-    def bic(rss, k):
-        return information_criteria(base_val, rss, k, n_eff)[1]
-
     rss = float(r_val @ r_val)
-    best = ([first], np.array([c0]), rss, bic(rss, 1))
+    best = ([first], np.array([c0]), rss, bic(rss, [first]))
     cols, coef = [first], [c0]
     for _ in range(max_terms - 1):
         trials = []
         for j in _distinct(S_fit, [j for j in block if j not in cols]):
             d = _slope_fit(r_fit, S_fit[:, j])
-            trials.append((float(np.sum((r_fit + S_fit[:, j] * d) ** 2)), j, d))
+            fit_rss = float(np.sum((r_fit + S_fit[:, j] * d) ** 2))
+            trials.append((n_eff * math.log(max(fit_rss, 1e-300))
+                           + costs[j] * math.log(n_eff), j, d))
         if not trials:
             break
         _, j, d = min(trials)
         cols, coef = cols + [j], coef + [d]
         r_fit, r_val = r_fit + S_fit[:, j] * d, r_val + S_val[:, j] * d
         rss = float(r_val @ r_val)
-        if bic(rss, len(cols)) < best[3]:
-            best = (list(cols), np.array(coef), rss, bic(rss, len(cols)))
+        if bic(rss, cols) < best[3]:
+            best = (list(cols), np.array(coef), rss, bic(rss, cols))
     return best
 
 
 def screen_terms(base: Baseline, data: Data, n_eff: float, options: DiagnoseOptions
-                 ) -> tuple[list[Screened], ModelConfig, Model]:
+                 ) -> tuple[list[ScreenedEquation], ModelConfig, Model]:
     """The screen of every equation, best first, with the host it ran on."""
     host = correction_host(base.config)
     model = Model(host)
-    keys, steps = [], []
+    keys, steps, costs, blocks = [], [], [], []
     for eq in EQUATIONS:
-        for reg in REGRESSORS:
-            keys.append(_key(eq.name, reg.name))
-            steps.append(SCREEN_STEP * eq.size / reg.typical)
+        blocks.append(list(range(len(keys), len(keys) + len(eq.terms))))
+        for term in eq.terms:
+            keys.append(_key(eq.name, term.name))
+            steps.append(SCREEN_STEP * eq.size / term.typical)
+            costs.append(term.cost)
     r_fit, S_fit = _sensitivities(model, host, keys, steps, data.fit)
     r_val, S_val = _sensitivities(model, host, keys, steps, data.val)
-    lead = _leading_terms(model, host, keys, r_fit, S_fit, data, LEADING_PER_EQUATION)
+    lead = _leading_terms(model, host, keys, r_fit, S_fit, data, blocks, LEADING_PER_EQUATION)
     base_val = float(r_val @ r_val)
-    out, n_reg = [], len(REGRESSORS)
-    for i, eq in enumerate(EQUATIONS):
-        block = list(range(i * n_reg, (i + 1) * n_reg))
-        cols, coef, rss, bic = _forward_selection(lead, S_fit, S_val, block, base_val, n_eff,
-                                                  options.max_terms)
-        if not cols:
+    out = []
+    for eq, block in zip(EQUATIONS, blocks):
+        def screened(cols, coef, rss, bic, plain=None):
+            chosen = [keys[j] for j in cols]
+            return ScreenedEquation(eq.name, chosen, dict(zip(chosen, map(float, coef))),
+                                    relative_fall(math.sqrt(rss), math.sqrt(base_val)), bic,
+                                    plain)
+        best = _forward_selection(lead, S_fit, S_val, block, costs, base_val, n_eff,
+                                  options.max_terms)
+        if not best[0]:
             continue
-        chosen = [keys[j] for j in cols]
-        reduction = relative_fall(math.sqrt(rss), math.sqrt(base_val))
-        out.append(Screened(eq.name, chosen, dict(zip(chosen, map(float, coef))), reduction,
-                            bic))
+        plain = None
+        if any(costs[j] > 1 for j in best[0]):
+            simple = [j for j in block if costs[j] == 1]
+            alt = _forward_selection({j: v for j, v in lead.items() if j in simple}, S_fit,
+                                     S_val, simple, costs, base_val, n_eff, options.max_terms)
+            plain = screened(*alt) if alt[0] else None
+        out.append(screened(*best, plain))
     return sorted(out, key=lambda s: s.bic), host, model
 
 
-def confirm(screened: Screened, host: ModelConfig, model: Model, base: Baseline, data: Data,
+def confirm(screened: ScreenedEquation, host: ModelConfig, model: Model, base: Baseline, data: Data,
             free: list[str], options: DiagnoseOptions) -> Discovered:
     """Fit the screened terms in full through the simulator and score them held out."""
     t0 = time.perf_counter()
@@ -255,7 +282,7 @@ def confirm(screened: Screened, host: ModelConfig, model: Model, base: Baseline,
         error_reduction=relative_fall(score.overall, base.score.overall),
         channel_reduction={ch: relative_fall(v, base.score.channels.get(ch, 0.0))
                            for ch, v in score.channels.items()},
-        n_params=len(keys), problems=problems, config=clean, correlation=result.correlation,
+        n_params=sum(TERMS[t].cost for t in terms_of(values)), problems=problems, config=clean, correlation=result.correlation,
         converged=result.converged, seconds=time.perf_counter() - t0,
         acts_on=BY_EQUATION[screened.equation].acts_on,
         summary=BY_EQUATION[screened.equation].equation.description,
@@ -269,5 +296,10 @@ def discover(base: Baseline, data: Data, free: list[str], n_eff: float,
     """Generic corrections of the baseline, screened and the best ``discovery_fits``
     confirmed; unranked (the ranking fills in the information criteria)."""
     screened, host, model = screen_terms(base, data, n_eff, options)
-    return [confirm(s, host, model, base, data, free, options)
-            for s in screened[:options.discovery_fits]]
+    out = []
+    for s in screened[:options.discovery_fits]:
+        found = [confirm(c, host, model, base, data, free, options)
+                 for c in (s, s.plain) if c is not None]
+        out.append(min(found, key=lambda d: information_criteria(
+            base.score.overall ** 2, d.score.overall ** 2, d.n_params, n_eff)[1]))
+    return out

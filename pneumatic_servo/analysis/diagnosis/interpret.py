@@ -4,11 +4,18 @@ from __future__ import annotations
 
 import math
 
-from ...effects.corrections import REGRESSORS
+from ...effects.terms import BY_NAME, N_WINDOWS
 from ...model.config import ModelConfig
 
-TYPICAL = {r.name: r.typical for r in REGRESSORS}
-DESCRIPTION = {r.name: r.description for r in REGRESSORS}
+TYPICAL = {t.name: t.typical for t in BY_NAME.values()}
+DESCRIPTION = {t.name: t.words for t in BY_NAME.values()}
+
+
+def _part(reg: str, core: dict) -> str:
+    """Where along the stroke window term ``reg`` acts, in degrees."""
+    k = int(reg.rsplit('_', 1)[1])
+    stroke = math.degrees(core['stroke_rad'])
+    return f'between about {k * stroke / N_WINDOWS:.0f} and {(k + 1) * stroke / N_WINDOWS:.0f} deg'
 
 
 def leading(terms: dict[str, float]) -> str:
@@ -44,6 +51,16 @@ def _moment(reg: str, c: float, terms: dict, core: dict) -> str:
     if reg in ('p_a', 'p_b'):
         return (f'a torque that grows with {reg}, {c:+.3g} N.m/Pa: the two pistons (or '
                 'chambers) do not push with the same effective area')
+    if reg.startswith('window_'):
+        return (f'a torque of {c:+.3g} N.m only over part of the stroke, {_part(reg, core)}: '
+                'a local load, a rough or worn stretch of the track, or a soft stop')
+    if reg == 'sign_velocity_times_mean_pressure':
+        return (f'a friction that grows with the chambers\' pressure, {1e5 * abs(c):.3g} N.m '
+                'per bar above atmosphere, ' + ('opposing' if c < 0 else 'aiding')
+                + ' the motion: seals pressed harder as the pressure rises')
+    if reg == 'sign_velocity_times_pressure_difference':
+        return (f'a friction that grows with the load p_a - p_b, {1e5 * abs(c):.3g} N.m per '
+                'bar: gear or bearing friction under load')
     return f'a torque that follows the {DESCRIPTION[reg]}, {c:+.3g} per unit'
 
 
@@ -72,6 +89,12 @@ def _mass(chamber: str, reg: str, c: float, terms: dict, core: dict) -> str:
     if reg in ('angle', 'sin_angle', 'cos_angle'):
         return (f'a flow {into} chamber {chamber} that changes with angle: a leak that opens '
                 'over part of the stroke')
+    if reg.startswith('sqrt_pressure_difference_in_window_'):
+        return ('a leak between the chambers that exists only ' + _part(reg, core)
+                + ': wear of the housing or vane seal over part of the stroke')
+    if reg == 'command_direction':
+        return (f'a flow {into} chamber {chamber} that depends on the direction the command '
+                'last moved in: hysteresis of the valve')
     return f'a flow {into} chamber {chamber} that follows the {DESCRIPTION[reg]}'
 
 
@@ -87,6 +110,10 @@ def _valve(reg: str, c: float, terms: dict, core: dict) -> str:
     if reg == 'abs_command':
         return ('the valve opens differently to either side of its null: an asymmetry of '
                 'the valve around its centre')
+    if reg == 'command_direction':
+        return (f'the valve acts as if the command were {abs(c):.3g} V '
+                + ('behind' if c < 0 else 'ahead of') + ' it in the direction it last moved: '
+                f'hysteresis of the proportional solenoid, a band of about {2 * abs(c):.3g} V')
     if reg in ('p_a', 'p_b', 'supply', 'pressure_difference'):
         return (f'the valve\'s effective opening follows the {DESCRIPTION[reg]}: flow forces '
                 'on the spool, or a pressure-dependent driver')
@@ -102,7 +129,22 @@ def _measurement(signal: str, reg: str, c: float, terms: dict, core: dict) -> st
         if reg == 'velocity':
             return (f'the angle reading is {1e3 * abs(c):.3g} ms '
                     f'{"early" if c > 0 else "late"}: a timing error of the angle sensor')
+        if reg == 'motion_direction':
+            return (f'the angle reading {"lags" if c < 0 else "leads"} the shaft by '
+                    f'{math.degrees(abs(c)):.2g} deg in the direction it last moved: play '
+                    f'(backlash) of about {math.degrees(2 * abs(c)):.2g} deg between shaft '
+                    'and encoder')
+        if reg.startswith('window_'):
+            return (f'the angle reads {math.degrees(c):+.2g} deg off {_part(reg, core)} only: '
+                    'a nonlinearity of the angle sensor')
         return f'an error of the angle reading that follows the {DESCRIPTION[reg]}'
+    if signal == 'supply':
+        if reg == 'constant':
+            return (f'the supply transmitter reads {c / 1e3:+.3g} kPa off, and the model is '
+                    'fed that reading: a transmitter offset')
+        if reg == 'supply':
+            return f'the supply transmitter\'s gain is off by {100 * c:+.2f} %'
+        return (f'an error of the supply reading that follows the {DESCRIPTION[reg]}')
     chamber = signal[-1]
     if reg == 'constant':
         return (f'chamber {chamber} pressure reads {c / 1e3:+.3g} kPa off: a transmitter '

@@ -1,0 +1,245 @@
+"""The vocabulary of generic corrections, declared once, built from blocks.
+
+A :class:`Term` is one candidate function of the state and inputs. It is one
+expression over named variables (:data:`VARIABLES`); the same text is
+compiled into the correction hooks (:mod:`.corrections`), evaluated over a
+record's arrays, and written into an emitted effect file, so a term is never
+declared twice. The blocks:
+
+* **variables**: angle, speed, chamber pressures, valve command, supply;
+* **functions** of them: sign (a smooth ``tanh``), absolute value, sine and
+  cosine, the signed square root of a pressure drop (an orifice), and smooth
+  **windows over the stroke** (Gaussian bumps at four places);
+* **memory**: the direction in which the valve command last moved (a play
+  operator of width :data:`COMMAND_PLAY_V`: magnetic hysteresis of a
+  proportional solenoid), and the direction in which the shaft last moved (a
+  play of :data:`MOTION_PLAY_RAD`: backlash between shaft and encoder);
+* **products** of the above where a physical effect is one: friction that
+  grows with chamber pressure, a leak across the vane over part of the stroke.
+
+The command's memory is a state of the correction (an ODE that follows the
+command outside its play band); the shaft's is evaluated over the record, so
+it is offered to the sensor equations only.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .._jit import njit
+
+#: [rad/s] and [V]: widths over which the direction of motion and the side of the valve
+#: centre change sign (tanh), so that a correction never makes the equations discontinuous
+SIGN_VELOCITY_WIDTH = 0.01
+SIGN_COMMAND_WIDTH = 0.02
+#: [V] width of the play whose output gives the direction the command last moved in
+COMMAND_PLAY_V = 0.05
+#: [s] time constant with which the command's memory follows outside its play band (fast
+#: against the loop, slow enough not to stiffen the integration)
+COMMAND_MEMORY_S = 0.002
+#: [rad] width of the play whose output gives the direction the shaft last moved in
+MOTION_PLAY_RAD = 0.004
+#: windows over the stroke: Gaussian bumps centred at (k + 1/2) / N_WINDOWS of the stroke
+N_WINDOWS = 4
+
+
+# --- functions the expressions call: scalar in compiled hooks, arrays in numpy ----------
+@njit(cache=True)
+def signed_sqrt(v):
+    """sign(v) sqrt(|v|): an orifice's flow against its pressure drop."""
+    return np.sign(v) * np.sqrt(np.abs(v))
+
+
+@njit(cache=True)
+def window(angle, stroke, k):
+    """Smooth window ``k`` of :data:`N_WINDOWS` over the stroke [1]."""
+    centre = (k + 0.5) / N_WINDOWS * stroke
+    width = stroke / (2.0 * N_WINDOWS)
+    return np.exp(-0.5 * ((angle - centre) / width) ** 2)
+
+
+@njit(cache=True)
+def _play(v, half):
+    out = np.empty(len(v))
+    y = np.nan
+    for i in range(len(v)):
+        if np.isnan(v[i]):  # a missing sample: the play holds, and says nothing there
+            out[i] = v[i]
+            continue
+        y = v[i] if np.isnan(y) else min(max(y, v[i] - half), v[i] + half)
+        out[i] = y
+    return out
+
+
+def direction(v: np.ndarray, width: float) -> np.ndarray:
+    """The direction ``v`` last moved in, from -1 to 1 [1]: its distance from the output of
+    a play (backlash) of ``width``, over half the width; 0 until it has moved, NaN where
+    ``v`` is (a missing sample does not reset the memory)."""
+    v = np.ascontiguousarray(v, dtype=float)
+    return (v - _play(v, 0.5 * width)) / (0.5 * width)
+
+
+@njit(cache=True)
+def memory_direction(offset, width):
+    """The command's direction from its distance to the memory state [1] (compiled)."""
+    return min(max(offset / (0.5 * width), -1.0), 1.0)
+
+
+@njit(cache=True)
+def memory_rate(offset, width):
+    """d(memory)/dt [V/s]: the memory follows the command outside its play band."""
+    half = 0.5 * width
+    return (offset - min(max(offset, -half), half)) / COMMAND_MEMORY_S
+
+
+# --- variables --------------------------------------------------------------------------
+@dataclass(frozen=True)
+class Variable:
+    """A name the expressions use: how a compiled hook reads it (None: not available
+    there), and how an emitted sensor error reads it from ``signals`` and ``core``."""
+
+    name: str
+    compiled: str | None
+    array: str
+    #: the signal it comes from and the value used where a record lacks it
+    signal: str = ''
+    default: str = '0.0'
+
+
+VARIABLES = (
+    Variable('angle', 'x[THETA]', "signals['angle_rad']", 'angle_rad'),
+    Variable('velocity', 'x[OMEGA]', "signals['velocity_rad_s']", 'velocity_rad_s'),
+    Variable('p_a', 'x[P_A]', "signals['p_a_pa']", 'p_a_pa', 'p_atm'),
+    Variable('p_b', 'x[P_B]', "signals['p_b_pa']", 'p_b_pa', 'p_atm'),
+    Variable('p_atm', 'c[C_PE]', "core['atmospheric_pressure_pa']"),
+    Variable('command', '(c[C_U] - P[K_NULL])',
+             "signals['command_v'] - core['valve_null_voltage_v']", 'command_v'),
+    Variable('supply', 'c[C_PS]', "signals['supply_pa']", 'supply_pa', 'p_atm'),
+    Variable('stroke', 'P[K_STROKE]', "core['stroke_rad']"),
+    Variable('command_direction', 'memory_direction(c[C_U] - x[s], COMMAND_PLAY_V)',
+             "direction(signals['command_v'], COMMAND_PLAY_V)", 'command_v'),
+    Variable('motion_direction', None, "direction(signals['angle_rad'], MOTION_PLAY_RAD)",
+             'angle_rad'),
+)
+BY_VARIABLE = {v.name: v for v in VARIABLES}
+
+
+@dataclass(frozen=True)
+class Term:
+    """A candidate term: its name, SI unit, a typical magnitude on a rig, its words, its
+    expression over :data:`VARIABLES` and the functions above, and the equations it is
+    offered in (None: every equation that can evaluate it)."""
+
+    name: str
+    unit: str
+    typical: float
+    words: str
+    expression: str
+    equations: tuple[str, ...] | None = None
+    #: parameters it counts as in a selection: a window's place, a product's pairing or an
+    #: operator's memory is a choice made on the data, so such a term counts as two and a
+    #: plain function of one variable is preferred where it fits as well
+    cost: int = 1
+
+    @property
+    def variables(self) -> list[str]:
+        import re
+        used = set(re.findall(r'[A-Za-z_]\w*', self.expression))
+        return [v.name for v in VARIABLES if v.name in used]
+
+    @property
+    def compiled(self) -> bool:
+        """Whether a compiled hook can evaluate it (memory of the shaft cannot)."""
+        return all(BY_VARIABLE[v].compiled is not None for v in self.variables)
+
+    @property
+    def memory(self) -> bool:
+        """Whether it needs the command's memory state."""
+        return 'command_direction' in self.variables
+
+
+_FLOWS = ('mass_balance_a', 'mass_balance_b')
+TERMS = (
+    Term('constant', '1', 1.0, 'one (a constant term)', '1.0'),
+    Term('angle', 'rad', 1.6, 'shaft angle', 'angle'),
+    Term('sin_angle', '1', 1.0, 'sine of the shaft angle', 'np.sin(angle)'),
+    Term('cos_angle', '1', 1.0, 'cosine of the shaft angle', 'np.cos(angle)'),
+    Term('velocity', 'rad/s', 2.0, 'shaft speed', 'velocity'),
+    Term('sign_velocity', '1', 1.0, 'direction of motion',
+         f'np.tanh(velocity / {SIGN_VELOCITY_WIDTH})'),
+    Term('p_a', 'Pa', 4e5, 'chamber a pressure (absolute)', 'p_a'),
+    Term('p_b', 'Pa', 4e5, 'chamber b pressure (absolute)', 'p_b'),
+    Term('pressure_difference', 'Pa', 3e5, 'p_a - p_b', '(p_a - p_b)'),
+    Term('command', 'V', 1.0, 'valve command minus its centre (5 V)', 'command'),
+    Term('sign_command', '1', 1.0, 'side of the valve centre the command is on',
+         f'np.tanh(command / {SIGN_COMMAND_WIDTH})'),
+    Term('abs_command', 'V', 1.0, 'distance of the command from the valve centre',
+         'np.abs(command)'),
+    Term('supply', 'Pa', 7e5, 'supply pressure (absolute)', 'supply'),
+    Term('sqrt_drop_a', 'Pa^0.5', 600.0,
+         'signed square root of p_a - p_atm (an orifice from chamber a to atmosphere)',
+         'signed_sqrt(p_a - p_atm)'),
+    Term('sqrt_drop_b', 'Pa^0.5', 600.0,
+         'signed square root of p_b - p_atm (an orifice from chamber b to atmosphere)',
+         'signed_sqrt(p_b - p_atm)'),
+    Term('sqrt_pressure_difference', 'Pa^0.5', 550.0,
+         'signed square root of p_a - p_b (an orifice between the chambers)',
+         'signed_sqrt(p_a - p_b)'),
+    # windows over the stroke: where along it the correction acts
+    *(Term(f'window_{k}', '1', 1.0, f'a window over part {k + 1} of {N_WINDOWS} of the '
+           'stroke', f'window(angle, stroke, {k})',
+           ('moment_balance', 'measurement_angle'), 2) for k in range(N_WINDOWS)),
+    *(Term(f'sqrt_pressure_difference_in_window_{k}', 'Pa^0.5', 550.0,
+           f'signed square root of p_a - p_b over part {k + 1} of {N_WINDOWS} of the stroke '
+           '(an orifice between the chambers there)',
+           f'signed_sqrt(p_a - p_b) * window(angle, stroke, {k})', _FLOWS, 2)
+      for k in range(N_WINDOWS)),
+    # products: friction that grows with the chambers' pressure
+    Term('sign_velocity_times_mean_pressure', 'Pa', 3e5,
+         'direction of motion times the mean chamber pressure above atmosphere (seal '
+         'friction that grows with pressure)',
+         f'np.tanh(velocity / {SIGN_VELOCITY_WIDTH}) * (0.5 * (p_a + p_b) - p_atm)',
+         ('moment_balance',), 2),
+    Term('sign_velocity_times_pressure_difference', 'Pa', 3e5,
+         'direction of motion times p_a - p_b (friction that grows with the load)',
+         f'np.tanh(velocity / {SIGN_VELOCITY_WIDTH}) * (p_a - p_b)', ('moment_balance',), 2),
+    # memory
+    Term('command_direction', '1', 1.0, 'direction in which the command last moved '
+         '(hysteresis)', 'command_direction', ('valve_input',) + _FLOWS, 2),
+    Term('motion_direction', '1', 1.0, 'direction in which the shaft last moved (play)',
+         'motion_direction', ('measurement_angle',), 2),
+)
+BY_NAME = {t.name: t for t in TERMS}
+
+
+def offered(equation: str, sensor: bool) -> tuple[Term, ...]:
+    """The terms offered in ``equation`` (a sensor equation is evaluated over arrays, so a
+    term without a compiled form is offered there only)."""
+    return tuple(t for t in TERMS
+                 if (t.equations is None or equation in t.equations)
+                 and (sensor or t.compiled))
+
+
+def array_namespace(signals: dict, core: dict) -> dict:
+    """The variables as arrays over a record (``signals`` [SI]; a missing one at its
+    default), with the functions the expressions call."""
+    n = len(next(iter(signals.values())))
+    ns = {'np': np, 'signed_sqrt': signed_sqrt, 'window': window, 'direction': direction,
+          'COMMAND_PLAY_V': COMMAND_PLAY_V, 'MOTION_PLAY_RAD': MOTION_PLAY_RAD,
+          'signals': signals, 'core': core}
+    ns['p_atm'] = float(core['atmospheric_pressure_pa'])
+    for v in VARIABLES:
+        if v.signal and v.signal not in signals:
+            ns[v.name] = np.full(n, ns['p_atm'] if v.default == 'p_atm' else 0.0)
+        elif v.name != 'p_atm':
+            ns[v.name] = np.asarray(eval(v.array, ns), dtype=float)  # noqa: S307 - our text
+    return ns
+
+
+def term_values(terms, signals: dict, core: dict) -> np.ndarray:
+    """(n, len(terms)) values of ``terms`` over a record's ``signals`` [SI]."""
+    ns = array_namespace(signals, core)
+    n = len(next(iter(signals.values())))
+    return np.column_stack([np.broadcast_to(eval(t.expression, ns), (n,))  # noqa: S307
+                            for t in terms]) if terms else np.zeros((n, 0))

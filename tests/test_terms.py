@@ -1,0 +1,107 @@
+"""The discovery's vocabulary is declared once (pneumatic_servo.effects.terms): the compiled
+hooks, the arrays of the sensor errors and the report, and the emitted effect files all
+evaluate the same expression, including the command's memory."""
+import importlib.util
+import math
+
+import numpy as np
+import pytest
+
+from pneumatic_servo import effects as registry
+from pneumatic_servo.analysis.diagnosis.discovery import Discovered
+from pneumatic_servo.analysis.diagnosis.emit import effect_source
+from pneumatic_servo.effects.corrections import BY_EQUATION, EQUATIONS, coefficient_name
+from pneumatic_servo.effects.layout import C_MA, C_PS, C_TORQUE, C_U, C_XV, K_GAIN
+from pneumatic_servo.effects.terms import direction, term_values
+from pneumatic_servo.fitting.problem import with_values
+from pneumatic_servo.model import Model, ModelConfig, simulate
+from pneumatic_servo.model.simulate import initial_state
+
+#: equation -> the context slot its correction changes, and the factor from term to change
+SLOTS = {'moment_balance': (C_TORQUE, 1.0), 'mass_balance_a': (C_MA, 1.0),
+         'valve_input': (C_XV, 'gain'), 'measurement_supply': (C_PS, -1.0)}
+STATE = {'angle_rad': 1.3, 'velocity_rad_s': 0.4, 'p_a_pa': 4.2e5, 'p_b_pa': 2.9e5}
+COMMAND_V, SUPPLY_PA = 5.21, 7.0e5
+
+
+@pytest.fixture(scope='module')
+def hosts():
+    cfg = ModelConfig.paper()
+    for eq in SLOTS:
+        cfg = cfg.with_effect(BY_EQUATION[eq].name, BY_EQUATION[eq].neutral)
+    return cfg, Model(cfg)
+
+
+@pytest.mark.parametrize('equation', list(SLOTS))
+def test_compiled_hooks_evaluate_the_terms_expressions(hosts, equation):
+    """Each term's compiled form, with its coefficient at 1, adds what its expression gives
+    over arrays at the same state (the memory's state at the command: direction 0)."""
+    cfg, model = hosts
+    eq = BY_EQUATION[equation].equation
+    x = initial_state(model, command_v=COMMAND_V, supply_pa=SUPPLY_PA, config=cfg, **STATE)
+    signals = {k: np.array([v]) for k, v in STATE.items()}
+    signals.update(command_v=np.array([COMMAND_V]), supply_pa=np.array([SUPPLY_PA]))
+    expected = term_values(eq.terms, signals, cfg.core)[0]
+    slot, factor = SLOTS[equation]
+    zero = model.evaluate(x, COMMAND_V, SUPPLY_PA, params=model.param_vector(cfg))[0][slot]
+    for term, want in zip(eq.terms, expected):
+        key = f'{BY_EQUATION[equation].name}.{coefficient_name(term.name)}'
+        c = 0.5 * eq.size / term.typical  # half a plausible size: inside every clamp
+        one = with_values(cfg, [key], [c])
+        got = model.evaluate(x, COMMAND_V, SUPPLY_PA, params=model.param_vector(one))[0][slot]
+        scale = cfg.core['spool_gain_m_per_v'] if factor == 'gain' else factor
+        assert (got - zero) == pytest.approx(scale * c * want, rel=1e-9, abs=1e-15), term.name
+
+
+def test_every_equation_offers_the_plain_terms_and_sensors_the_shafts_memory():
+    plain = [t.name for t in BY_EQUATION['measurement_p_a'].equation.terms]
+    for eq in EQUATIONS:
+        names = [t.name for t in eq.terms]
+        assert names[:len(plain)] == plain, eq.name
+    assert 'motion_direction' in [t.name for t in BY_EQUATION['measurement_angle'].equation.terms]
+    assert 'motion_direction' not in [t.name for t in
+                                      BY_EQUATION['moment_balance'].equation.terms]
+    assert BY_EQUATION['valve_input'].states and not BY_EQUATION['moment_balance'].states
+
+
+def test_direction_is_a_play_that_remembers_across_missing_samples():
+    v = np.array([0.0, 0.3, 0.6, 0.5, np.nan, 0.4, 0.9])
+    d = direction(v, 0.2)
+    assert d[0] == 0.0 and d[2] == pytest.approx(1.0) and d[3] == pytest.approx(0.0)
+    assert math.isnan(d[4]), 'a missing sample says nothing'
+    assert d[5] == pytest.approx(-1.0), 'the memory holds across it: still moving down'
+    assert d[6] == pytest.approx(1.0)
+
+
+def test_an_emitted_memory_correction_simulates_as_the_package_one(tmp_path):
+    """--emit-effect writes the hook from the same text: a valve hysteresis term (the
+    command's memory, a state of the effect) simulates identically to the correction."""
+    name = BY_EQUATION['valve_input'].name
+    coefficient = {f'{name}.command_direction_coefficient': -0.08,
+                   f'{name}.constant_coefficient': 0.01}
+    term = Discovered(effect=name, params=coefficient, stderr={k: 1e-3 for k in coefficient},
+                      fixed={}, base_params={}, score=None, error_reduction=0.5,
+                      channel_reduction={}, n_params=3, problems=[], config=None,
+                      correlation=None, converged=True, seconds=0.0, acts_on='both',
+                      summary='', equation='valve_input', screened_reduction=0.5,
+                      interpretation='the valve lags its command')
+    path = tmp_path / 'hyst.py'
+    path.write_text(effect_source(term, ['a record']))
+    spec = importlib.util.spec_from_file_location('hyst', path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    cls = module.DiscoveredValveInput
+    registry.register(cls)
+    try:
+        t = np.arange(0.0, 1.0, 1e-3)
+        u = 5.0 + 0.4 * np.sign(np.sin(2 * np.pi * 3 * t))
+        package = ModelConfig.paper().with_effect(name, {
+            k.partition('.')[2]: v for k, v in coefficient.items()})
+        emitted = ModelConfig.paper().with_effect(cls.name, cls.example)
+        a, b = simulate(package, t, u), simulate(emitted, t, u)
+        plain = simulate(ModelConfig.paper(), t, u)
+    finally:
+        registry._REGISTRY.pop(cls.name, None)
+    assert np.allclose(a.states[:, :4], b.states[:, :4], rtol=0, atol=1e-9)
+    assert np.abs(a.states[:, 2] - plain.states[:, 2]).max() > 1e3, 'the term acts'
+    assert C_U != K_GAIN  # layout names the generated code imports exist
