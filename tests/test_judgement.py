@@ -12,7 +12,7 @@ from pneumatic_servo.analysis.diagnosis import DiagnoseOptions, diagnose
 from pneumatic_servo.analysis.diagnosis.criteria import Levels, Status, gain_p_value
 from pneumatic_servo.analysis.diagnosis.floor import Floor, quantum
 from pneumatic_servo.analysis.diagnosis.discovery import Discovered
-from pneumatic_servo.analysis.diagnosis.run import look_for_terms
+from pneumatic_servo.analysis.diagnosis.pipeline import look_for_terms
 from pneumatic_servo.analysis.diagnosis.status import best_generic, clearly_better
 from pneumatic_servo.analysis.diagnosis.verdict import rank
 from pneumatic_servo.analysis.diagnosis.scoring import Score

@@ -4,7 +4,7 @@ and a summary (``summary.json`` and a printed table).
 The demo is a list of stages, run in order:
 
 1. ``paper_figures``: the paper's experiments and the switchable parts (figures);
-2. ``closed_loop``: a closed loop over DDS (``pneumatic_servo.ros.demo``);
+2. ``closed_loop``: a closed loop over DDS (``pneumatic_servo.ros.closed_loop_demo``);
 3. ``diagnosis``: the model-discrepancy workflow (``pneumatic_servo.workflow``);
 4. ``fleet``: the bundled synthetic fleet on a local Dask cluster (``pneumatic_servo.fleet``).
 """
@@ -42,7 +42,7 @@ def _paper_figures(out_dir: Path, config, log) -> dict:
 
 
 def _closed_loop(out_dir: Path, config, log) -> dict:
-    from ..ros.demo import run_closed_loop_demo  # rclpy is loaded only for this stage
+    from ..ros.closed_loop_demo import run_closed_loop_demo  # rclpy is loaded only for this stage
     return run_closed_loop_demo(out_dir / 'closed_loop')
 
 

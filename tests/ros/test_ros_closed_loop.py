@@ -8,7 +8,7 @@ import pytest
 from pneumatic_servo.control.metrics import step_metrics, tracking_rms
 from pneumatic_servo.control.reference import Reference, Trajectory
 from pneumatic_servo.ros import common
-from pneumatic_servo.ros.demo import (
+from pneumatic_servo.ros.closed_loop_demo import (
     DEG,
     SINE_AT_S,
     SINE_HZ,

@@ -13,7 +13,7 @@
 """
 from .options import DiagnoseOptions
 from .result import Diagnosis, apply
-from .run import diagnose, predictions, where_it_fails
+from .pipeline import diagnose, predictions, where_it_fails
 
 __all__ = ['diagnose', 'apply', 'predictions', 'where_it_fails', 'Diagnosis',
            'DiagnoseOptions']
