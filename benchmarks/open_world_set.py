@@ -3,7 +3,8 @@
 Written as a rig's physics would be, independently of the discovery's vocabulary: none
 uses :mod:`pneumatic_servo.effects.terms`, several have shapes it cannot write exactly
 (a smooth-edged window where the vocabulary has Gaussian bumps, |p_a - p_b| where it has
-p_a - p_b, a code wheel's two cycles per stroke, a transducer's lag). They are registered
+p_a - p_b, a code wheel's two cycles per stroke, a transducer's exact lag where it has the
+first-order rate term). They are registered
 only while their records are generated. Each class says what a right answer is:
 
 * ``equations``: the equations a correction may act in to be right;
@@ -120,8 +121,8 @@ class TransducerLagA(Component):
     params = (Param('lag_s', 's', 0.008, 1e-4, 1.0, 'time constant'),
               Param('sample_interval_s', 's', 0.002, 1e-5, 1.0, 'record interval', fit=False))
     sensor_error = staticmethod(_transducer_lag)
-    # the vocabulary has no rate of change of a pressure: the dependence cannot be written
-    equations, depends, closed_form = ('measurement_p_a',), ({'p_a_rate'},), ()
+    # to first order a lag reads -tau dp/dt: the rate of change is the dependence
+    equations, depends, closed_form = ('measurement_p_a',), ({'p_a_rate'},), ('rate_p_a',)
 
 
 # --- windows over the stroke ---------------------------------------------------------------

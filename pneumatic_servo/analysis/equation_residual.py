@@ -65,9 +65,9 @@ def equation_residual(config: ModelConfig, exp: Experiment, pred: dict, equation
     sig = smoothed_signals(exp)
     sig.setdefault('supply_pa', np.full(len(exp.t), config.core['supply_pressure_pa']))
     eq = BY_EQUATION[equation].equation
-    regs = term_values(eq.terms, {**sig, **{k: v for k, v in pred.items()
-                                            if k not in sig and k.endswith('_pa')}},
-                       config.core)
+    regs = term_values(eq.terms, {**sig, 't_s': exp.t,
+                                  **{k: v for k, v in pred.items()
+                                     if k not in sig and k.endswith('_pa')}}, config.core)
     if eq.signal is not None:
         if eq.signal not in exp.signals or eq.signal not in pred:
             return None

@@ -105,7 +105,8 @@ def _params(eq: Equation) -> tuple[Param, ...]:
     out = []
     for t in eq.terms:
         size = eq.size / t.typical
-        unit = eq.unit if t.unit == '1' else '1' if t.unit == eq.unit else f'{eq.unit}/{t.unit}'
+        unit = (eq.unit if t.unit == '1' else '1' if t.unit == eq.unit else
+                's' if t.unit == f'{eq.unit}/s' else f'{eq.unit}/{t.unit}')
         out.append(Param(coefficient_name(t.name), unit, 0.0, -10.0 * size, 10.0 * size,
                          f'{eq.description} per unit of {t.words}', fit=False,
                          plausible=(-size, size)))
@@ -118,7 +119,7 @@ _LAYOUT_NAMES = ('THETA', 'OMEGA', 'P_A', 'P_B', 'T_A', 'T_B', 'C_PE', 'C_U', 'C
                  'C_PS_REG', 'C_TE', 'C_TORQUE', 'C_XV', 'K_NULL', 'K_STROKE', 'K_GAIN',
                  'K_HALF_W', 'K_HOLE_R', 'add_flow')
 _TERM_NAMES = ('signed_sqrt', 'window', 'memory_direction', 'memory_rate', 'COMMAND_PLAY_V',
-               'direction', 'MOTION_PLAY_RAD')
+               'direction', 'MOTION_PLAY_RAD', 'rate')
 
 
 def _used(text: str, names) -> list[str]:

@@ -15,7 +15,9 @@ declared twice. The blocks:
   proportional solenoid), and the direction in which the shaft last moved (a
   play of :data:`MOTION_PLAY_RAD`: backlash between shaft and encoder);
 * **products** of the above where a physical effect is one: friction that
-  grows with chamber pressure, a leak across the vane over part of the stroke.
+  grows with chamber pressure, a leak across the vane over part of the stroke;
+* **dynamics of a sensor**: the rate of change of a chamber pressure (a transmitter that
+  lags by tau reads, to first order, -tau times it).
 
 The command's memory is a state of the correction (an ODE that follows the
 command outside its play band); the shaft's is evaluated over the record, so
@@ -42,6 +44,9 @@ COMMAND_MEMORY_S = 0.002
 MOTION_PLAY_RAD = 0.004
 #: windows over the stroke: Gaussian bumps centred at (k + 1/2) / N_WINDOWS of the stroke
 N_WINDOWS = 4
+#: [s] span of the derivative a sensor's rate is taken over (the prediction's own
+#: derivative window, ``analysis.equation_residual``, is 31 ms)
+RATE_WINDOW_S = 0.021
 
 
 # --- functions the expressions call: scalar in compiled hooks, arrays in numpy ----------
@@ -70,6 +75,20 @@ def _play(v, half):
         y = v[i] if np.isnan(y) else min(max(y, v[i] - half), v[i] + half)
         out[i] = y
     return out
+
+
+def rate(v: np.ndarray, t) -> np.ndarray:
+    """d``v``/dt over a record [unit/s]: a Savitzky-Golay derivative over
+    :data:`RATE_WINDOW_S`, so that a noisy reading's rate is not its noise (zero without
+    sample times or with too few samples). A sensor's lag is, to first order, minus its
+    time constant times this."""
+    from ..smoothing import savgol_filter
+    v = np.asarray(v, dtype=float)
+    if t is None or len(v) < 5:
+        return np.zeros(len(v))
+    dt = float(np.median(np.diff(np.asarray(t, dtype=float))))
+    window = min(max(5, int(round(RATE_WINDOW_S / dt)) | 1), len(v) - (1 - len(v) % 2))
+    return savgol_filter(v, window, 2, deriv=1, delta=dt)
 
 
 def direction(v: np.ndarray, width: float) -> np.ndarray:
@@ -121,6 +140,8 @@ VARIABLES = (
              "direction(signals['command_v'], COMMAND_PLAY_V)", 'command_v'),
     Variable('motion_direction', None, "direction(signals['angle_rad'], MOTION_PLAY_RAD)",
              'angle_rad'),
+    Variable('p_a_rate', None, "rate(signals['p_a_pa'], signals.get('t_s'))", 'p_a_pa'),
+    Variable('p_b_rate', None, "rate(signals['p_b_pa'], signals.get('t_s'))", 'p_b_pa'),
 )
 BY_VARIABLE = {v.name: v for v in VARIABLES}
 
@@ -209,6 +230,11 @@ TERMS = (
          '(hysteresis)', 'command_direction', ('valve_input',) + _FLOWS, 2),
     Term('motion_direction', '1', 1.0, 'direction in which the shaft last moved (play)',
          'motion_direction', ('measurement_angle',), 2),
+    # dynamics of a sensor: a lag of tau reads, to first order, -tau times the rate
+    Term('rate_p_a', 'Pa/s', 2e6, 'rate of change of p_a (a lagging transmitter)',
+         'p_a_rate', ('measurement_p_a',)),
+    Term('rate_p_b', 'Pa/s', 2e6, 'rate of change of p_b (a lagging transmitter)',
+         'p_b_rate', ('measurement_p_b',)),
 )
 BY_NAME = {t.name: t for t in TERMS}
 
@@ -226,6 +252,7 @@ def array_namespace(signals: dict, core: dict) -> dict:
     default), with the functions the expressions call."""
     n = len(next(iter(signals.values())))
     ns = {'np': np, 'signed_sqrt': signed_sqrt, 'window': window, 'direction': direction,
+          'rate': rate,
           'COMMAND_PLAY_V': COMMAND_PLAY_V, 'MOTION_PLAY_RAD': MOTION_PLAY_RAD,
           'signals': signals, 'core': core}
     ns['p_atm'] = float(core['atmospheric_pressure_pa'])

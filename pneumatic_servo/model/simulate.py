@@ -121,7 +121,7 @@ def measured_states(model: Model, config: ModelConfig, t: np.ndarray, states: np
     physical ``states`` (n, n_states) at times ``t``."""
     signals = {name: states[:, i] for i, name in enumerate(CORE_STATE_NAMES)}
     errors = sensor_errors(model, config, {**signals, 'command_v': command_v,
-                                           'supply_pa': supply_pa})
+                                           'supply_pa': supply_pa, 't_s': t})
     if not errors:
         return states
     out = states.copy()

@@ -83,8 +83,11 @@ def _predict(model, exp, configs, plan, rtol):
         X = np.full((len(exp.t), model.n_states), np.nan)
         if np.all(status[rows.start:rows.stop] == 0):
             for r, (a, b) in zip(rows, segs):
-                X[a:b] = delayed(tw[:b - a], XB[r, :b - a], d_outs[j])
-            X = measured_states(model, cfgs[j], exp.t, X, us[j], pss[j])
+                # the sensors read each segment's prediction on its own: a sensor's dynamics
+                # (a lag) never see the step from one segment's end to the next one's start
+                X[a:b] = measured_states(model, cfgs[j], exp.t[a:b],
+                                         delayed(tw[:b - a], XB[r, :b - a], d_outs[j]),
+                                         us[j][a:b], pss[j][a:b])
         out.append({name: X[:, idx] for name, idx in STATE_SIGNALS.items()})
 
     def why(j: int) -> str:

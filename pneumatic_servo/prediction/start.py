@@ -57,13 +57,14 @@ def measured_state(model: Model, cfg: ModelConfig, exp: Experiment, signals: dic
 
 
 def physical_signals(model: Model, cfg: ModelConfig, signals: dict, command_v: np.ndarray,
-                     supply_pa: np.ndarray) -> dict:
+                     supply_pa: np.ndarray, t: np.ndarray) -> dict:
     """``signals`` with the model's sensor errors taken out (to first order: each error is
-    evaluated at the reading), so a segment starts from the physical state."""
+    evaluated at the reading), so a segment starts from the physical state; ``t`` [s] the
+    sample times (a sensor's dynamics need them)."""
     if not any(c.sensor_error is not None for c in model.layout.classes):
         return signals
     errors = sensor_errors(model, cfg, {**signals, 'command_v': command_v,
-                                        'supply_pa': supply_pa})
+                                        'supply_pa': supply_pa, 't_s': t})
     return {**signals, **{sig: signals[sig] - err for sig, err in errors.items()
                           if sig in signals}}
 
@@ -86,7 +87,8 @@ def start_states(model: Model, exp: Experiment, signals: dict, cfgs, us, pss, pa
     ones (gas temperatures, effect states) from a lead-in simulation of ``lead_s`` [s] where
     the record leaves room for one; the measured states are then reset to the measurements.
     """
-    physical = [physical_signals(model, cfg, signals, u, ps) for cfg, u, ps in zip(cfgs, us, pss)]
+    physical = [physical_signals(model, cfg, signals, u, ps, exp.t)
+                for cfg, u, ps in zip(cfgs, us, pss)]
     X0 = np.array([measured_state(model, cfg, exp, sig, a, u[a], ps[a])
                    for cfg, sig, u, ps in zip(cfgs, physical, us, pss) for a, _ in segments])
     lead = int(round(lead_s / exp.dt))

@@ -151,6 +151,10 @@ def _measurement(signal: str, reg: str, c: float, terms: dict, core: dict) -> st
                 'offset (a gauge reading would be about -101 kPa)')
     if reg == f'p_{chamber}':
         return f'the chamber {chamber} transmitter\'s gain is off by {100 * c:+.2f} %'
+    if reg == f'rate_p_{chamber}':
+        return (f'the chamber {chamber} pressure reads {1e3 * abs(c):.3g} ms '
+                + ('late: a lag of the transmitter or of the line to it' if c < 0 else
+                   'early: a timing error of the transmitter'))
     return (f'an error of the chamber {chamber} pressure reading that follows the '
             f'{DESCRIPTION[reg]}: crosstalk or a wiring fault')
 
