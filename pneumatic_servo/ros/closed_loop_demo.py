@@ -251,7 +251,7 @@ def run_closed_loop_demo(out_dir, controllers=('pid', 'smc'), storage: str = 'sq
     return result
 
 
-def main() -> None:  # pragma: no cover - convenience: python -m pneumatic_servo.ros.closed_loop_demo OUT
+def main() -> None:  # pragma: no cover - python -m pneumatic_servo.ros.closed_loop_demo OUT
     from ..jsonable import dumps
     import sys
     res = run_closed_loop_demo(sys.argv[1] if len(sys.argv) > 1 else 'out/closed_loop')

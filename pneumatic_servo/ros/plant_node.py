@@ -16,7 +16,8 @@ Publishes ``joint_states``, ``chamber_a/pressure``, ``chamber_b/pressure``,
   time on ``/clock``).
 
 Parameters: :mod:`.plant_specs`; when samples are due: one pacing strategy per clock
-mode (:mod:`.pacing`). Every valve command passes the output gate (:mod:`pneumatic_servo.control.gate`).
+mode (:mod:`.pacing`). Every valve command passes the output gate
+(:mod:`pneumatic_servo.control.gate`).
 A lifecycle node: inactive, shutting down, faulted or on any exception the
 valve is at 5 V. With ``autostart`` (default) it configures and activates
 itself, so it runs without a lifecycle manager.

@@ -3,7 +3,8 @@ physics lives.
 
 Every generic correction of :mod:`pneumatic_servo.effects.corrections` (one per
 balance equation, input and measurement, each a linear combination of the terms
-of :mod:`pneumatic_servo.effects.terms` offered there) is tried through the real simulator, with the same split,
+of :mod:`pneumatic_servo.effects.terms` offered there) is tried through the real
+simulator, with the same split,
 residuals and criteria as the named effects:
 
 1. **Screen** (one batch): each (equation, term) coefficient is stepped
@@ -23,7 +24,7 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -239,26 +240,26 @@ def screen_terms(base: Baseline, data: Data, n_eff: float, options: DiagnoseOpti
     base_val = float(r_val @ r_val)
     out = []
     for eq, block in zip(EQUATIONS, blocks):
-        def screened(cols, coef, rss, bic, plain=None):
+        def select(columns):
+            """The selection over ``columns`` of this equation, or None if it has none."""
+            cols, coef, rss, bic = _forward_selection(
+                {j: v for j, v in lead.items() if j in columns}, S_fit, S_val, columns, costs,
+                base_val, n_eff, options.max_terms)
             chosen = [keys[j] for j in cols]
-            return ScreenedEquation(eq.name, chosen, dict(zip(chosen, map(float, coef))),
-                                    relative_fall(math.sqrt(rss), math.sqrt(base_val)), bic,
-                                    plain)
-        best = _forward_selection(lead, S_fit, S_val, block, costs, base_val, n_eff,
-                                  options.max_terms)
-        if not best[0]:
+            return ScreenedEquation(
+                eq.name, chosen, dict(zip(chosen, map(float, coef))),
+                relative_fall(math.sqrt(rss), math.sqrt(base_val)), bic) if cols else None
+        best = select(block)
+        if best is None:
             continue
-        plain = None
-        if any(costs[j] > 1 for j in best[0]):
-            simple = [j for j in block if costs[j] == 1]
-            alt = _forward_selection({j: v for j, v in lead.items() if j in simple}, S_fit,
-                                     S_val, simple, costs, base_val, n_eff, options.max_terms)
-            plain = screened(*alt) if alt[0] else None
-        out.append(screened(*best, plain))
+        if any(TERMS[t].cost > 1 for t in terms_of(best.start)):
+            best = replace(best, plain=select([j for j in block if costs[j] == 1]))
+        out.append(best)
     return sorted(out, key=lambda s: s.bic), host, model
 
 
-def confirm(screened: ScreenedEquation, host: ModelConfig, model: Model, base: Baseline, data: Data,
+def confirm(screened: ScreenedEquation, host: ModelConfig, model: Model, base: Baseline,
+            data: Data,
             free: list[str], options: DiagnoseOptions) -> Discovered:
     """Fit the screened terms in full through the simulator and score them held out."""
     t0 = time.perf_counter()
@@ -282,7 +283,8 @@ def confirm(screened: ScreenedEquation, host: ModelConfig, model: Model, base: B
         error_reduction=relative_fall(score.overall, base.score.overall),
         channel_reduction={ch: relative_fall(v, base.score.channels.get(ch, 0.0))
                            for ch, v in score.channels.items()},
-        n_params=sum(TERMS[t].cost for t in terms_of(values)), problems=problems, config=clean, correlation=result.correlation,
+        n_params=sum(TERMS[t].cost for t in terms_of(values)), problems=problems,
+        config=clean, correlation=result.correlation,
         converged=result.converged, seconds=time.perf_counter() - t0,
         acts_on=BY_EQUATION[screened.equation].acts_on,
         summary=BY_EQUATION[screened.equation].equation.description,
