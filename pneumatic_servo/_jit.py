@@ -78,8 +78,11 @@ def load_generated(name: str, source: str, globals_: dict | None = None):
 
 
 def source_key(*parts) -> str:
-    """A short hash of ``parts`` and of what compiled code depends on (Python, numba)."""
+    """A short hash of ``parts`` and of what compiled code depends on (Python, numba, numpy):
+    the name of a generated module, so that nothing stale is ever loaded."""
+    import numpy
     h = hashlib.sha256()
-    for part in (*parts, sys.version, getattr(_numba, '__version__', 'no numba'), ENABLED):
+    for part in (*parts, sys.version, getattr(_numba, '__version__', 'no numba'), ENABLED,
+                 numpy.__version__):
         h.update(str(part).encode())
     return h.hexdigest()[:24]

@@ -126,8 +126,9 @@ class Component:
     #: Measurement error ``sensor_error(values, signals, core) -> {signal: error}`` [SI]: what
     #: this component adds to the sensors' readings, from the physical ``signals`` (arrays:
     #: ``angle_rad``, ``velocity_rad_s``, ``p_a_pa``, ``p_b_pa``, ``command_v``,
-    #: ``supply_pa``, and ``t_s`` the sample times [s]) and the core parameters; plain numpy, applied after the simulation, so
-    #: it never feeds back into the physics. None if it adds none.
+    #: ``supply_pa``, and ``t_s`` the sample times [s]) and the core parameters; plain
+    #: numpy, applied after the simulation (to each k-step segment on its own), so it never
+    #: feeds back into the physics. None if it adds none.
     sensor_error: ClassVar[Optional[Callable]] = None
 
     @classmethod

@@ -94,7 +94,6 @@ EQUATIONS = (
     Equation('measurement_p_b', 'Pa', 2e4, 'an error of the chamber b pressure sensor',
              'p_b_pa'),
 )
-BY_NAME = {eq.name: eq for eq in EQUATIONS}
 
 
 def coefficient_name(term: str) -> str:
@@ -128,7 +127,7 @@ def _used(text: str, names) -> list[str]:
 
 def hook_source(eq: Equation, used: list[Term], name: str = '_correction') -> str:
     """Source of the compiled hook adding ``sum_i p[i] * used[i]`` to ``eq``."""
-    variables = [v for v in terms.VARIABLES if any(v.name in t.variables for t in used)]
+    variables = terms.variables_of(used)
     lines = [f'def {name}(t, x, s, p, P, c, dx):',
              f'    """Add the correction: {eq.description} [{eq.unit}]."""',
              *(f'    {v.name} = {v.compiled}' for v in variables),
@@ -143,7 +142,7 @@ def hook_source(eq: Equation, used: list[Term], name: str = '_correction') -> st
 def sensor_source(eq: Equation, used: list[Term], name: str = '_sensor_error') -> str:
     """Source of the sensor error ``sum_k values[<term>_coefficient] * term_k`` of ``eq``
     over a record's arrays (the form ``Component.sensor_error`` takes)."""
-    variables = [v for v in terms.VARIABLES if any(v.name in t.variables for t in used)]
+    variables = terms.variables_of(used)
     total = ' + '.join(f"values['{coefficient_name(t.name)}'] * {t.expression}" for t in used)
     return (f'def {name}(values, signals, core):\n'
             f'    """What the sensor adds to its reading of {eq.signal} [SI]."""\n'

@@ -25,7 +25,9 @@ it is offered to the sensor equations only.
 """
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -121,20 +123,20 @@ class Variable:
     name: str
     compiled: str | None
     array: str
-    #: the signal it comes from and the value used where a record lacks it
+    #: the signal it comes from; where a record lacks it, the atmosphere (a pressure) or 0
     signal: str = ''
-    default: str = '0.0'
+    atmospheric: bool = False
 
 
 VARIABLES = (
     Variable('angle', 'x[THETA]', "signals['angle_rad']", 'angle_rad'),
     Variable('velocity', 'x[OMEGA]', "signals['velocity_rad_s']", 'velocity_rad_s'),
-    Variable('p_a', 'x[P_A]', "signals['p_a_pa']", 'p_a_pa', 'p_atm'),
-    Variable('p_b', 'x[P_B]', "signals['p_b_pa']", 'p_b_pa', 'p_atm'),
+    Variable('p_a', 'x[P_A]', "signals['p_a_pa']", 'p_a_pa', True),
+    Variable('p_b', 'x[P_B]', "signals['p_b_pa']", 'p_b_pa', True),
     Variable('p_atm', 'c[C_PE]', "core['atmospheric_pressure_pa']"),
     Variable('command', '(c[C_U] - P[K_NULL])',
              "signals['command_v'] - core['valve_null_voltage_v']", 'command_v'),
-    Variable('supply', 'c[C_PS]', "signals['supply_pa']", 'supply_pa', 'p_atm'),
+    Variable('supply', 'c[C_PS]', "signals['supply_pa']", 'supply_pa', True),
     Variable('stroke', 'P[K_STROKE]', "core['stroke_rad']"),
     Variable('command_direction', 'memory_direction(c[C_U] - x[s], COMMAND_PLAY_V)',
              "direction(signals['command_v'], COMMAND_PLAY_V)", 'command_v'),
@@ -163,9 +165,9 @@ class Term:
     #: plain function of one variable is preferred where it fits as well
     cost: int = 1
 
-    @property
+    @cached_property
     def variables(self) -> list[str]:
-        import re
+        """The names of :data:`VARIABLES` its expression uses."""
         used = set(re.findall(r'[A-Za-z_]\w*', self.expression))
         return [v.name for v in VARIABLES if v.name in used]
 
@@ -247,8 +249,14 @@ def offered(equation: str, sensor: bool) -> tuple[Term, ...]:
                  and (sensor or t.compiled))
 
 
-def array_namespace(signals: dict, core: dict) -> dict:
-    """The variables as arrays over a record (``signals`` [SI]; a missing one at its
+def variables_of(terms) -> list[Variable]:
+    """The variables ``terms`` use, in the order of :data:`VARIABLES`."""
+    names = {name for t in terms for name in t.variables}
+    return [v for v in VARIABLES if v.name in names]
+
+
+def _array_namespace(signals: dict, core: dict, variables) -> dict:
+    """``variables`` as arrays over a record (``signals`` [SI]; a missing one at its
     default), with the functions the expressions call."""
     n = len(next(iter(signals.values())))
     ns = {'np': np, 'signed_sqrt': signed_sqrt, 'window': window, 'direction': direction,
@@ -256,17 +264,18 @@ def array_namespace(signals: dict, core: dict) -> dict:
           'COMMAND_PLAY_V': COMMAND_PLAY_V, 'MOTION_PLAY_RAD': MOTION_PLAY_RAD,
           'signals': signals, 'core': core}
     ns['p_atm'] = float(core['atmospheric_pressure_pa'])
-    for v in VARIABLES:
+    for v in variables:
         if v.signal and v.signal not in signals:
-            ns[v.name] = np.full(n, ns['p_atm'] if v.default == 'p_atm' else 0.0)
+            ns[v.name] = np.full(n, ns['p_atm'] if v.atmospheric else 0.0)
         elif v.name != 'p_atm':
             ns[v.name] = np.asarray(eval(v.array, ns), dtype=float)  # noqa: S307 - our text
     return ns
 
 
 def term_values(terms, signals: dict, core: dict) -> np.ndarray:
-    """(n, len(terms)) values of ``terms`` over a record's ``signals`` [SI]."""
-    ns = array_namespace(signals, core)
+    """(n, len(terms)) values of ``terms`` over a record's ``signals`` [SI]; only the
+    variables they use are evaluated (a memory or a rate is a pass over the record)."""
+    ns = _array_namespace(signals, core, variables_of(terms))
     n = len(next(iter(signals.values())))
     return np.column_stack([np.broadcast_to(eval(t.expression, ns), (n,))  # noqa: S307
                             for t in terms]) if terms else np.zeros((n, 0))

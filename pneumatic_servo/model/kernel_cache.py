@@ -18,11 +18,8 @@ from __future__ import annotations
 
 import hashlib
 import inspect
-import sys
 from functools import lru_cache
 from pathlib import Path
-
-import numpy as np
 
 from .. import _jit
 from ..effects.base import STAGES
@@ -77,15 +74,9 @@ def module_source(layout) -> str:
 
 
 def _key(layout, source: str) -> str:
-    numba = sys.modules.get('numba')
-    h = hashlib.sha256()
-    for part in (_package_digest(), source, sys.version,
-                 getattr(numba, '__version__', 'no numba'), str(_jit.ENABLED), np.__version__):
-        h.update(str(part).encode())
-    for cls in layout.classes:
-        h.update(f'{cls.__module__}.{cls.__qualname__}'.encode())
-        h.update(_source_of(cls))
-    return h.hexdigest()[:24]
+    return _jit.source_key(_package_digest(), source,
+                           *(f'{cls.__module__}.{cls.__qualname__}' for cls in layout.classes),
+                           *(_source_of(cls) for cls in layout.classes))
 
 
 def load(layout) -> dict:

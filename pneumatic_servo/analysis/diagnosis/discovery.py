@@ -184,14 +184,12 @@ def _forward_selection(lead, S_fit, S_val, block, costs, base_val: float, n_eff:
     window or a product leads only where it predicts clearly better than a plain term. The
     leading term is the simplest (first in the vocabulary) whose held-out BIC is within
     :data:`BIC_TIE` of the best: closer than that, the data do not tell them apart."""
-    def bic(j):
-        r_val = lead[j][2]
-        return information_criteria(base_val, float(r_val @ r_val), costs[j], n_eff)[1]
-    starts = [j for j in lead if j in block]
-    if not starts:
+    bic = {j: information_criteria(base_val, float(lead[j][2] @ lead[j][2]), costs[j],
+                                   n_eff)[1] for j in lead if j in block}
+    if not bic:
         return [], np.zeros(0), base_val, 0.0
-    best = min(bic(j) for j in starts)
-    first = min(j for j in starts if bic(j) <= best + BIC_TIE)
+    tie = min(bic.values()) + BIC_TIE
+    first = min(j for j, b in bic.items() if b <= tie)
     return _path(first, lead, S_fit, S_val, block, costs, base_val, n_eff, max_terms)
 
 
@@ -242,9 +240,8 @@ def screen_terms(base: Baseline, data: Data, n_eff: float, options: DiagnoseOpti
     for eq, block in zip(EQUATIONS, blocks):
         def select(columns):
             """The selection over ``columns`` of this equation, or None if it has none."""
-            cols, coef, rss, bic = _forward_selection(
-                {j: v for j, v in lead.items() if j in columns}, S_fit, S_val, columns, costs,
-                base_val, n_eff, options.max_terms)
+            cols, coef, rss, bic = _forward_selection(lead, S_fit, S_val, columns, costs,
+                                                      base_val, n_eff, options.max_terms)
             chosen = [keys[j] for j in cols]
             return ScreenedEquation(
                 eq.name, chosen, dict(zip(chosen, map(float, coef))),

@@ -12,6 +12,7 @@ partial read is never returned as a whole one.
 """
 from __future__ import annotations
 
+from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -145,6 +146,19 @@ class _Read:
     bag: Path
 
 
+@contextmanager
+def _reading(where: str, bag: Path):
+    """rosbags' reader of the checked ``bag``; a failure of the storage layer, inside or
+    while opening, becomes its one-line :class:`ExperimentError`."""
+    try:
+        with storage.open_reader(bag) as reader:
+            yield reader
+    except ExperimentError:
+        raise
+    except errors.storage_exceptions() as exc:
+        raise errors.storage_error(where, exc) from None
+
+
 def _read(path: Path, opts: ReadOptions) -> _Read:
     """The bag's measurement series, each on its own stamps, checked batch by batch."""
     bag = storage.bag_dir(path)
@@ -159,35 +173,30 @@ def _read(path: Path, opts: ReadOptions) -> _Read:
     series: dict[str, Series] = {}
     picker = _JointPicker(where, opts.joint)
     missing: set[str] = set()
-    try:
-        with storage.open_reader(bag) as reader:
-            conns = reader.connections
-            found, ns, ignored = metadata.match_topics(
-                where, sorted({c.topic for c in conns}), opts.namespace, opts.topic_map,
-                opts.strict)
-            metadata.check_types(where, found, conns)
-            if opts.required:
-                listed = {t: sum(c.msgcount for c in conns if c.topic == found[t])
-                          for t in found}
-                metadata.check_required(where, circuit, found, listed)
-            topics = {}
-            for topic, name in found.items():
-                spec = TOPICS[topic]
-                outputs = []
-                for sig, field in zip(spec.signals, spec.fields):
-                    if sig in wanted and sig not in series:
-                        series[sig] = Series()
-                    outputs.append((field, series.get(sig)))
-                if any(s is not None for _, s in outputs):
-                    topics[name] = _Topic(name, spec, outputs)
-            # the index's counts, taken now: the reader clears its connections on close
-            expected = {name: sum(c.msgcount for c in conns if c.topic == name)
-                        for name in topics}
-            _collect(where, reader, topics, opts, picker, missing)
-    except ExperimentError:
-        raise
-    except errors.storage_exceptions() as exc:
-        raise errors.storage_error(where, exc) from None
+    with _reading(where, bag) as reader:
+        conns = reader.connections
+        found, ns, ignored = metadata.match_topics(
+            where, sorted({c.topic for c in conns}), opts.namespace, opts.topic_map,
+            opts.strict)
+        metadata.check_types(where, found, conns)
+        if opts.required:
+            listed = {t: sum(c.msgcount for c in conns if c.topic == found[t])
+                      for t in found}
+            metadata.check_required(where, circuit, found, listed)
+        topics = {}
+        for topic, name in found.items():
+            spec = TOPICS[topic]
+            outputs = []
+            for sig, field in zip(spec.signals, spec.fields):
+                if sig in wanted and sig not in series:
+                    series[sig] = Series()
+                outputs.append((field, series.get(sig)))
+            if any(s is not None for _, s in outputs):
+                topics[name] = _Topic(name, spec, outputs)
+        # the index's counts, taken now: the reader clears its connections on close
+        expected = {name: sum(c.msgcount for c in conns if c.topic == name)
+                    for name in topics}
+        _collect(where, reader, topics, opts, picker, missing)
     if not opts.window:
         for name, t in topics.items():
             validate.check_count(where, name, expected[name], t.count)
@@ -395,19 +404,14 @@ def read_messages(path, topics) -> list[tuple[str, int, object]]:
     where = str(path)
     bag = storage.bag_dir(path)
     store = typestore()
-    out = []
-    try:
-        with storage.open_reader(bag) as reader:
-            use = [c for c in reader.connections if c.topic in set(topics)]
-            for conn, rec, raw in reader.messages(connections=use):
-                try:
-                    msg = store.deserialize_cdr(raw, conn.msgtype)
-                except Exception as exc:  # noqa: BLE001 - any decoder failure: corrupt data
-                    raise errors.decode_error(where, len(out) + 1, conn.topic, conn.msgtype,
-                                              exc) from None
-                out.append((conn.topic, rec, msg))
-    except ExperimentError:
-        raise
-    except errors.storage_exceptions() as exc:
-        raise errors.storage_error(where, exc) from None
+    out, wanted = [], set(topics)
+    with _reading(where, bag) as reader:
+        use = [c for c in reader.connections if c.topic in wanted]
+        for conn, rec, raw in reader.messages(connections=use):
+            try:
+                msg = store.deserialize_cdr(raw, conn.msgtype)
+            except Exception as exc:  # noqa: BLE001 - any decoder failure: corrupt data
+                raise errors.decode_error(where, len(out) + 1, conn.topic, conn.msgtype,
+                                          exc) from None
+            out.append((conn.topic, rec, msg))
     return out
