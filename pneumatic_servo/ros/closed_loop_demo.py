@@ -77,13 +77,12 @@ def run_lockstep_session(controller: str, bag_dir, end_s: float = END_S, points=
 
     Returns ``{'bag', 'sim_s', 'wall_s', 'speed', 'counts'}``.
     """
-    from rclpy.parameter import Parameter
-
+    from .common import sim_time
     from .controller_node import ControllerNode
     from .loop import run_nodes
     from .plant_node import PlantNode
     from .recorder import RecorderNode
-    sim = [Parameter('use_sim_time', value=True)]
+    sim = sim_time()
     points = profile_points() if points is None else points
     overrides = {'controller': controller, **(controller_overrides or {})}
     n = {}

@@ -130,6 +130,12 @@ def descriptor(spec) -> ParameterDescriptor:
     return d
 
 
+def sim_time(on: bool = True) -> list:
+    """The parameter overrides of a node that runs on ``/clock`` (none if not ``on``)."""
+    from rclpy.parameter import Parameter
+    return [Parameter('use_sim_time', value=True)] if on else []
+
+
 def declare(node, specs: SpecSet, overrides: dict | None = None) -> dict:
     """Declare every parameter of ``specs`` on ``node``; returns the values.
 

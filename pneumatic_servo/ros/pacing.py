@@ -51,11 +51,13 @@ class FreeRunning:
 
     started = True
 
-    def __init__(self, node, now: float, first_measurement: bool = True):
+    def __init__(self, node, now: float, measurement_out: bool = False):
         self.period_s = node.period_s
-        self.next_s = now + self.period_s
-        if first_measurement:
+        if measurement_out:  # taking over: the last measurement is out, the next period is due
+            self.next_s = now
+        else:
             node.publish(node.measurement, now)
+            self.next_s = now + self.period_s
 
     def deadline(self, node, now: float) -> float:
         return self.next_s
@@ -101,7 +103,7 @@ class Lockstep:
         if armed and node.gate.faulted:
             node.get_logger().error('lockstep: no new command within the watchdog period; '
                                     'valve safe, continuing in real time')
-            node.pacing = FreeRunning(node, now - node.period_s, first_measurement=False)
+            node.pacing = FreeRunning(node, now, measurement_out=True)
             node.publish_diagnostics(now, force=True)
         elif now - node.sent_at > node.p['lockstep_resend_s']:
             # a lost measurement, or a controller that is not there yet: say it again

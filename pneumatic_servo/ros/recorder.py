@@ -164,15 +164,12 @@ def record(out, duration_s: float, storage: str = 'sqlite3', topics=DEFAULT_TOPI
     """Record ``duration_s`` seconds from the first message (wall seconds, or node-clock
     seconds with sim time); wait up to ``wait_s`` for that first message. Returns
     ``{'bag': path, 'counts': {...}, 'stopped': why}``. Initialises and shuts down rclpy."""
-    from rclpy.parameter import Parameter
-
     from .loop import run_nodes
     made = []
-    overrides = [Parameter('use_sim_time', value=True)] if use_sim_time else []
 
     def make():
         made.append(RecorderNode(out, storage, duration_s if use_sim_time else math.inf,
-                                 topics, parameter_overrides=overrides))
+                                 topics, parameter_overrides=common.sim_time(use_sim_time)))
         return made[0]
 
     clock = {}

@@ -14,14 +14,9 @@ import signal
 import subprocess
 import sys
 
-from rclpy.parameter import Parameter
-
 from ..errors import ConfigError, PneumaticServoError
+from .common import sim_time
 from .loop import run_nodes
-
-
-def _sim_time(on: bool):
-    return [Parameter('use_sim_time', value=True)] if on else []
 
 
 def make_plant(overrides: dict, namespace: str = ''):
@@ -32,7 +27,7 @@ def make_plant(overrides: dict, namespace: str = ''):
 def make_controller(overrides: dict, use_sim_time: bool = False, namespace: str = ''):
     from .controller_node import ControllerNode
     return ControllerNode(overrides=overrides, namespace=namespace,
-                          parameter_overrides=_sim_time(use_sim_time))
+                          parameter_overrides=sim_time(use_sim_time))
 
 
 def make_monitor(overrides: dict, namespace: str = ''):
@@ -84,7 +79,7 @@ def run_up(plant: dict, controller: dict, processes: int = 1, duration_s: float 
     if record:
         from .recorder import RecorderNode
         factories.append(lambda: RecorderNode(record, storage,
-                                              parameter_overrides=_sim_time(use_sim_time)))
+                                              parameter_overrides=sim_time(use_sim_time)))
     child = None
     if processes == 1:
         factories.append(lambda: make_controller(controller, use_sim_time))
