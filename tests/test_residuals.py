@@ -98,3 +98,29 @@ def test_summary_places_leaks_in_a_mass_balance():
     s = summary(exps, preds)
     assert s['equation'].startswith('mass balance of both chambers')
     assert 'p_a - p_b' in s['moves_with']
+
+
+def test_residuals_are_smoothed_within_each_segment():
+    """The one-pass moving average equals each segment averaged on its own (a segment's
+    residual never borrows from the next one's start)."""
+    from pneumatic_servo.fitting.problem import smooth
+    rng = np.random.default_rng(3)
+    x, breaks = rng.normal(size=1000), np.array([100, 340, 352, 800])
+    for width in (3, 5, 9):
+        kernel = np.ones(width)
+        alone = np.concatenate([np.convolve(p, kernel, 'same')
+                                / np.convolve(np.ones(len(p)), kernel, 'same')
+                                for p in np.split(x, breaks)])
+        np.testing.assert_allclose(smooth(x, width, breaks), alone, rtol=0, atol=1e-12)
+
+
+def test_the_screen_ranks_on_the_held_out_segments_at_the_fitted_rate(loop):
+    """Discovery's linear screen simulates some 150 terms: it uses the held-out segments
+    decimated like the fitted part; everything judged keeps the record's rate."""
+    data = Data.of([loop], DiagnoseOptions())
+    fit, val, screen = data.fit[0], data.val[0], data.screen_val[0]
+    assert screen.exp.dt == pytest.approx(fit.exp.dt) and fit.exp.dt > 2 * val.exp.dt
+    spans = [(val.exp.t[a], val.exp.t[b - 1]) for a, b in val.plan.segments]
+    coarse = [(screen.exp.t[a], screen.exp.t[b - 1]) for a, b in screen.plan.segments]
+    assert len(coarse) == len(spans)
+    np.testing.assert_allclose(np.array(coarse), np.array(spans), atol=fit.exp.dt)

@@ -105,3 +105,32 @@ def test_an_emitted_memory_correction_simulates_as_the_package_one(tmp_path):
     assert np.allclose(a.states[:, :4], b.states[:, :4], rtol=0, atol=1e-9)
     assert np.abs(a.states[:, 2] - plain.states[:, 2]).max() > 1e3, 'the term acts'
     assert C_U != K_GAIN  # layout names the generated code imports exist
+
+
+def test_a_correction_at_zero_is_skipped_and_changes_nothing():
+    """The discovery host carries every correction at zero. The compiled model calls a
+    stateless one only while a coefficient is set (its call costs as much as a short hook)
+    and then predicts exactly what the model without it predicts; a correction with the
+    command's memory is always called, so its memory moves as before."""
+    from pneumatic_servo.model.kernel_cache import module_source
+
+    def with_corrections(cfg, equations):
+        for eq in equations:
+            cfg = cfg.with_effect(BY_EQUATION[eq].name, BY_EQUATION[eq].neutral)
+        return cfg
+
+    base = ModelConfig.paper()
+    layout = Model(with_corrections(base, ['moment_balance', 'mass_balance_a'])).layout
+    calls = {cls.name: line for line in module_source(layout).splitlines()
+             for i, cls in enumerate(layout.classes) if f'_hook_{i}_' in line}
+    assert calls['correction_moment_balance'].startswith('        _hook')  # under its if
+    assert calls['correction_mass_balance_a'].startswith('    _hook')  # it has a memory
+    host = with_corrections(base, ['moment_balance', 'measurement_supply'])
+    model = Model(host)
+    t = np.arange(0.0, 0.3, 1e-3)
+    command = 5.0 + 0.4 * np.sin(20 * t)
+    plain = simulate(Model(base), t, command).states
+    np.testing.assert_array_equal(simulate(model, t, command).states, plain)
+    torque = with_values(host, ['correction_moment_balance.constant_coefficient'], [0.05])
+    moved = simulate(model, t, command, config=torque).states
+    assert np.abs(moved[:, 0] - plain[:, 0]).max() > 1e-4

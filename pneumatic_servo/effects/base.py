@@ -107,6 +107,11 @@ class Component:
     #: several candidates: true for effects whose hooks cost next to nothing, since each
     #: composition takes seconds to compile.
     shares_host: ClassVar[bool] = False
+    #: Whether the compiled model calls its hooks only while a parameter differs from
+    #: ``neutral``: for a stateless component that sits at neutral in most simulations and
+    #: has many terms, like a generic correction (for a short hook the test costs more
+    #: than the call, measured; a state would stop moving, which changes the step control).
+    skipped_at_neutral: ClassVar[bool] = False
     #: The experiment that excites this effect more than its look-alikes, in words.
     excitation: ClassVar[str] = ''
     #: Look-alike effect name -> the experiment that tells the two apart, where a specific

@@ -30,12 +30,19 @@ def channel_scales(exp: Experiment, channels=None) -> dict[str, float]:
     return out
 
 
-def smooth(x: np.ndarray, width: int) -> np.ndarray:
-    """Centred moving average over ``width`` samples (fewer at the ends); no delay."""
+def smooth(x: np.ndarray, width: int, breaks=()) -> np.ndarray:
+    """Centred moving average over an odd ``width`` of samples (fewer at the ends); no delay.
+    ``breaks``: indices where a new piece begins; each piece is averaged on its own."""
     if width <= 1 or len(x) < 2:
         return x
-    kernel = np.ones(width)
-    return np.convolve(x, kernel, 'same') / np.convolve(np.ones(len(x)), kernel, 'same')
+    n, half = len(x), width // 2
+    starts = np.concatenate([[0], breaks]).astype(int)
+    ends = np.append(starts[1:], n)
+    piece = np.repeat(np.arange(len(starts)), ends - starts)
+    i = np.arange(n)
+    lo, hi = np.maximum(i - half, starts[piece]), np.minimum(i + half + 1, ends[piece])
+    total = np.concatenate([[0.0], np.cumsum(x)])
+    return (total[hi] - total[lo]) / (hi - lo)
 
 
 @dataclass
@@ -98,9 +105,7 @@ def residual_rows(model: Model, parts: list[Part], configs: list[ModelConfig]
                 sig = CHANNELS[ch].signal
                 r = (pred[sig][part.index] - part.measured(sig)) / scale
                 r = np.where(np.isfinite(r), r, FAILED_RESIDUAL)
-                if part.smooth > 1:
-                    r = np.concatenate([smooth(piece, part.smooth)
-                                        for piece in np.split(r, part.breaks)])
+                r = smooth(r, part.smooth, part.breaks)
                 rows[j].setdefault(ch, []).append(r)
     return [{ch: np.concatenate(v) for ch, v in row.items()} for row in rows]
 

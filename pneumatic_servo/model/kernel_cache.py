@@ -47,6 +47,18 @@ def _source_of(cls) -> bytes:
         return repr(id(cls)).encode()
 
 
+def _switched_on(cls, p0: int) -> str:
+    """The condition under which component ``cls`` (parameters from ``P[p0]``) is called:
+    '' (always) unless it is ``skipped_at_neutral`` and stateless: then while a parameter
+    differs from its neutral value (at which it adds exactly nothing).
+    """
+    if not (cls.skipped_at_neutral and cls.neutral) or cls.states:
+        return ''
+    names = [p.name for p in cls.params]
+    return ' or '.join(f'P[{p0 + names.index(k)}] != {float(v)!r}'
+                       for k, v in cls.neutral.items())
+
+
 def module_source(layout) -> str:
     """Source of the kernel module of ``layout``: the template with its composition."""
     lines = []
@@ -55,8 +67,11 @@ def module_source(layout) -> str:
         for i in layout.hook_order():
             if layout.classes[i].hook(stage) is not None:
                 p0, p1 = layout.param_slices[i]
-                calls.append(f'    _hook_{i}_{stage}(t, x, {layout.state_offsets[i]}, '
-                             f'P[{p0}:{p1}], P, c, dx)')
+                call = (f'_hook_{i}_{stage}(t, x, {layout.state_offsets[i]}, '
+                        f'P[{p0}:{p1}], P, c, dx)')
+                switched_on = _switched_on(layout.classes[i], p0)
+                calls += ([f'    if {switched_on}:', f'        {call}'] if switched_on
+                          else [f'    {call}'])
         lines += ['@njit(cache=True)', f'def _{stage}(t, x, P, c, dx):',
                   *(calls or ['    pass']), '', '']
     lines += ['@njit(cache=True)', 'def _rhs(t, x, u, ps, P, circuit, c, dx):',

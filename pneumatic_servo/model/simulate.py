@@ -77,14 +77,15 @@ def initial_state(model: Model, angle_rad: float = None, p_a_pa: float = None,
                   p_b_pa: float = None, t_a_k: float = None, t_b_k: float = None,
                   velocity_rad_s: float = 0.0, command_v: float = 5.0,
                   supply_pa: float = None, config: ModelConfig = None,
-                  circuit: str = 'servo') -> np.ndarray:
+                  circuit: str = 'servo', params: np.ndarray | None = None) -> np.ndarray:
     """Full state vector [SI]; unspecified values default to mid-stroke, mid pressure, room T.
 
     In the static circuits the b side of the valve is a dead end (ports 2
     and 3 closed), so its default pressure is the supply. Effect-owned
     states start from each component's ``initial_state`` and are then
     settled to their own steady state for this command and supply, so that
-    e.g. a spool lag starts at rest even with a null offset.
+    e.g. a spool lag starts at rest even with a null offset. ``params``: the config's
+    parameter vector, where the caller has it.
     """
     cfg = config or model.config
     core = cfg.core
@@ -99,7 +100,9 @@ def initial_state(model: Model, angle_rad: float = None, p_a_pa: float = None,
     for comp in model.layout.classes:
         x += list(comp.initial_state(cfg.values_of(comp.name), command_v, ps, core))
     x = np.array(x, dtype=float)
-    _settle_effect_states(model, x, command_v, ps, model.param_vector(cfg), CIRCUITS[circuit])
+    _settle_effect_states(model, x, command_v, ps,
+                          model.param_vector(cfg) if params is None else params,
+                          CIRCUITS[circuit])
     return x
 
 

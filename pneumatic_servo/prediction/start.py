@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..effects.layout import OMEGA, P_A, P_B, THETA
+from ..effects.layout import CORE_STATE_NAMES, OMEGA, P_A, P_B, THETA
 from ..experiment import Experiment
 from ..model.assembly import Model
 from ..model.config import ModelConfig
@@ -32,13 +32,12 @@ def angle_slope(t: np.ndarray, angle: np.ndarray, k: int) -> float:
     return float(np.dot(tt, angle[lo:hi] - angle[lo:hi].mean()) / np.dot(tt, tt))
 
 
-def measured_state(model: Model, cfg: ModelConfig, exp: Experiment, signals: dict, k: int,
-                   command_v: float, supply_pa: float) -> np.ndarray:
-    """State vector from the measured ``signals`` at sample ``k``; the rest from defaults.
+def measured_values(exp: Experiment, cfg: ModelConfig, signals: dict, k: int) -> dict:
+    """The core states at sample ``k`` that ``signals`` measure, as :func:`initial_state`'s
+    keywords (None: not measured).
 
-    Velocity: the signals' own, else the angle's local slope, else 0. Gas
-    temperatures: measured, else room temperature. Outside the servo circuit
-    the pistons stand at the config's blocked angle.
+    Velocity: the signals' own, else the angle's local slope, else 0. Outside the servo
+    circuit the pistons stand at the config's blocked angle.
     """
     def get(name):
         return float(signals[name][k]) if name in signals else None
@@ -50,10 +49,18 @@ def measured_state(model: Model, cfg: ModelConfig, exp: Experiment, signals: dic
     else:
         vel = 0.0
     angle = get('angle_rad') if exp.circuit == 'servo' else cfg.core['blocked_angle_rad']
-    return initial_state(model, angle_rad=angle, p_a_pa=get('p_a_pa'), p_b_pa=get('p_b_pa'),
-                         t_a_k=get('t_a_k'), t_b_k=get('t_b_k'), velocity_rad_s=vel,
-                         command_v=command_v, supply_pa=supply_pa, config=cfg,
-                         circuit=exp.circuit)
+    return {'angle_rad': angle, 'p_a_pa': get('p_a_pa'), 'p_b_pa': get('p_b_pa'),
+            't_a_k': get('t_a_k'), 't_b_k': get('t_b_k'), 'velocity_rad_s': vel}
+
+
+def measured_state(model: Model, cfg: ModelConfig, exp: Experiment, signals: dict, k: int,
+                   command_v: float, supply_pa: float, params: np.ndarray | None = None
+                   ) -> np.ndarray:
+    """State vector from the measured ``signals`` at sample ``k`` (:func:`measured_values`);
+    the rest from defaults: gas temperatures at room temperature, effect states settled.
+    ``params``: ``cfg``'s parameter vector, where the caller has it."""
+    return initial_state(model, **measured_values(exp, cfg, signals, k), command_v=command_v,
+                         supply_pa=supply_pa, config=cfg, circuit=exp.circuit, params=params)
 
 
 def physical_signals(model: Model, cfg: ModelConfig, signals: dict, command_v: np.ndarray,
@@ -72,13 +79,10 @@ def physical_signals(model: Model, cfg: ModelConfig, signals: dict, command_v: n
 def stack_windows(win: int, segments, arrays) -> np.ndarray:
     """Stack per-config input arrays into (rows, win) windows starting at each segment,
     padded with the segment's last value."""
-    out = []
-    for arr in arrays:
-        for a, b in segments:
-            w = np.full(win, arr[b - 1])
-            w[:b - a] = arr[a:b]
-            out.append(w)
-    return np.array(out)
+    starts = np.array([a for a, _ in segments])
+    last = np.array([b - 1 for _, b in segments])
+    index = np.minimum(starts[:, None] + np.arange(win), last[:, None])
+    return np.concatenate([np.asarray(arr)[index] for arr in arrays])
 
 
 def start_states(model: Model, exp: Experiment, signals: dict, cfgs, us, pss, params,
@@ -89,24 +93,36 @@ def start_states(model: Model, exp: Experiment, signals: dict, cfgs, us, pss, pa
     """
     physical = [physical_signals(model, cfg, signals, u, ps, exp.t)
                 for cfg, u, ps in zip(cfgs, us, pss)]
-    X0 = np.array([measured_state(model, cfg, exp, sig, a, u[a], ps[a])
-                   for cfg, sig, u, ps in zip(cfgs, physical, us, pss) for a, _ in segments])
+    rows = [(cfg, sig, u, ps, p) for cfg, sig, u, ps, p in zip(cfgs, physical, us, pss, params)]
+
+    def at(starts):
+        """measured_state of every (config, start sample), config-major."""
+        return np.array([measured_state(model, cfg, exp, sig, a, u[a], ps[a], p)
+                         for cfg, sig, u, ps, p in rows for a in starts])
+
     lead = int(round(lead_s / exp.dt))
-    if lead < 2 or exp.circuit not in MEASURED_STATES:
-        return X0
     pre = [(max(a - lead, 0), a + 1) for a, _ in segments]
-    if all(b - a < 3 for a, b in pre):
-        return X0
-    L0 = np.array([measured_state(model, cfg, exp, sig, a, u[a], ps[a])
-                   for cfg, sig, u, ps in zip(cfgs, physical, us, pss) for a, _ in pre])
+    if (lead < 2 or exp.circuit not in MEASURED_STATES
+            or all(b - a < 3 for a, b in pre)):
+        return at([a for a, _ in segments])
     P = np.repeat(np.array(params), len(segments), axis=0)
     XB, _, status = simulate_batch(model, exp.t[:lead + 1] - exp.t[0],
                                    stack_windows(lead + 1, pre, us),
-                                   stack_windows(lead + 1, pre, pss), L0, P, exp.circuit)
+                                   stack_windows(lead + 1, pre, pss),
+                                   at([a for a, _ in pre]), P, exp.circuit)
     keep = [i for i, sig in MEASURED_STATES[exp.circuit] if sig in exp.signals]
-    for r, (a, b) in enumerate(pre * len(cfgs)):
+    X0 = np.empty((len(pre) * len(rows), model.n_states))
+    for r, (a, b) in enumerate(pre * len(rows)):
+        cfg, sig, u, ps, p = rows[r // len(pre)]
         if b - a >= 3 and status[r] == 0:
-            x = XB[r, b - a - 1].copy()
-            x[keep] = X0[r, keep]
-            X0[r] = x
+            # after the lead-in only the measured states are reset: no settling needed
+            X0[r] = XB[r, b - a - 1]
+            X0[r, keep] = _core_vector(measured_values(exp, cfg, sig, b - 1))[keep]
+        else:
+            X0[r] = measured_state(model, cfg, exp, sig, b - 1, u[b - 1], ps[b - 1], p)
     return X0
+
+
+def _core_vector(values: dict) -> np.ndarray:
+    """The core states of :func:`measured_values`, NaN where unmeasured."""
+    return np.array([np.nan if values[k] is None else values[k] for k in CORE_STATE_NAMES])

@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -68,15 +69,20 @@ def split(exp: Experiment, scales: dict, options: DiagnoseOptions) -> tuple[Part
     if not val or not fit:  # too short for blocks: alternate segments
         segs = list(plan.segments)
         fit, val = segs[0::2], segs[1::2] or segs[:1]
-    q = fit_factor(exp, options)
-    coarse = decimate(exp, q)
-    n = len(coarse.t)
-    fit = [(a // q, min(-(-b // q), n)) for a, b in fit]
-    fit = [(a, b) for a, b in fit if b - a >= 2]
-    return (Part(coarse, scales, plan.subset(fit), smooth=smoothing_width(options.smooth_s,
-                                                                          coarse.dt)),
+    return (coarse(Part(exp, scales, plan.subset(fit)), fit_factor(exp, options),
+                   options.smooth_s),
             Part(exp, scales, plan.subset(val), smooth=smoothing_width(options.smooth_s,
                                                                        exp.dt)))
+
+
+def coarse(part: Part, q: int, smooth_s: float) -> Part:
+    """A time-series ``part`` decimated by ``q`` (:func:`decimate`), its segments mapped onto
+    the coarse samples, its residual smoothed over ``smooth_s`` [s]."""
+    exp = decimate(part.exp, q)
+    n = len(exp.t)
+    segments = [(a // q, min(-(-b // q), n)) for a, b in part.plan.segments]
+    return Part(exp, part.scales, part.plan.subset([(a, b) for a, b in segments if b - a >= 2]),
+                smooth=smoothing_width(smooth_s, exp.dt))
 
 
 def noise_sigma(x: np.ndarray) -> float:
@@ -119,6 +125,20 @@ class Data:
                 total += len(x) * noise_sigma(x) ** 2 / part.smooth
                 count += len(x)
         return float(np.sqrt(total / count)) if count else 0.0
+
+    @cached_property
+    def screen_val(self) -> list[Part]:
+        """The held-out parts at the fitted parts' rate: what discovery's linear screen
+        ranks terms on (it simulates each of some 150 terms; the terms it keeps are then fitted
+        and judged on :attr:`val`, at the record's rate)."""
+        out = []
+        for fit, val in zip(self.fit, self.val):
+            if val.plan is None:
+                out.append(val)
+                continue
+            q = max(1, int(round(fit.exp.dt / val.exp.dt)))
+            out.append(coarse(val, q, (val.smooth * val.exp.dt)) if q > 1 else val)
+        return out
 
     @property
     def whole(self) -> list[Part]:

@@ -172,7 +172,7 @@ def _leading_terms(model, host, keys, r_fit, S_fit, data, blocks, per_equation: 
         coef.append(float(np.clip(c2, host.param(keys[cols[len(coef)]]).lower,
                                   host.param(keys[cols[len(coef)]]).upper)))
     at_fit = _residuals(model, host, [keys[j] for j in cols], coef, data.fit)
-    at_val = _residuals(model, host, [keys[j] for j in cols], coef, data.val)
+    at_val = _residuals(model, host, [keys[j] for j in cols], coef, data.screen_val)
     return {j: (c, rf, rv) for j, c, rf, rv in zip(cols, coef, at_fit, at_val)}
 
 
@@ -233,7 +233,7 @@ def screen_terms(base: Baseline, data: Data, n_eff: float, options: DiagnoseOpti
             steps.append(SCREEN_STEP * eq.size / term.typical)
             costs.append(term.cost)
     r_fit, S_fit = _sensitivities(model, host, keys, steps, data.fit)
-    r_val, S_val = _sensitivities(model, host, keys, steps, data.val)
+    r_val, S_val = _sensitivities(model, host, keys, steps, data.screen_val)
     lead = _leading_terms(model, host, keys, r_fit, S_fit, data, blocks, LEADING_PER_EQUATION)
     base_val = float(r_val @ r_val)
     out = []
