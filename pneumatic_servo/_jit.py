@@ -23,11 +23,17 @@ ENABLED = _numba is not None and os.environ.get('PNEUMATIC_SERVO_JIT', '1') != '
 
 
 def njit(func=None, **options):
-    """Compile ``func`` with numba in nopython mode when available, else return it."""
+    """Compile ``func`` with numba in nopython mode when available, else return it.
+
+    Division follows numpy's rules (``error_model='numpy'``): a division by zero gives an
+    infinity or NaN, which the integrators' finiteness checks turn into a failed
+    simulation (and :mod:`pneumatic_servo.model.culprit` names the hook), instead of a
+    check before every division, which costs a tenth of a simulation (measured).
+    """
     def wrap(f):
         if not ENABLED:
             return f
-        return _numba.njit(fastmath=False, **options)(f)
+        return _numba.njit(fastmath=False, error_model='numpy', **options)(f)
     return wrap(func) if func is not None else wrap
 
 

@@ -428,3 +428,18 @@ def test_savitzky_golay_equals_scipys(window, order, deriv):
     assert np.max(np.abs(got - want)) <= 1e-12 * np.max(np.abs(want))
     with pytest.raises(ValueError, match='odd'):
         savgol_filter(x, 4, 2)
+
+
+def test_a_batch_row_stops_at_its_own_length_with_the_same_states():
+    """k-step windows of unequal length share one batch: a row simulated over its first n
+    samples has exactly the states of the full-length row there, and NaN after them."""
+    from pneumatic_servo.model.simulate import simulate_batch
+    model = Model(ModelConfig.paper())
+    t = np.arange(0.0, 0.2, 1e-3)
+    command = 5.0 + 0.3 * np.sin(30 * t)
+    x0 = initial_state(model)
+    XB, _, status = simulate_batch(model, t, command, 7e5, np.array([x0, x0]),
+                                   np.array([model.params, model.params]), lengths=[200, 73])
+    assert list(status) == [0, 0]
+    np.testing.assert_array_equal(XB[1, :73], XB[0, :73])
+    assert np.isnan(XB[1, 73:]).all() and np.isfinite(XB[0]).all()

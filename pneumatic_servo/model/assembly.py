@@ -7,6 +7,7 @@ fast as a hand-written model. ``kernel_cache`` compiles each composition once pe
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -83,7 +84,7 @@ class Model:
             names += [f'{comp.name}.{s.name}' for s in comp.states]
         return names
 
-    @property
+    @cached_property
     def abs_tol(self) -> np.ndarray:
         tol = list(CORE_STATE_ABS_TOL)
         for comp in self.layout.classes:

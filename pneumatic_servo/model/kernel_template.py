@@ -11,7 +11,8 @@ cache them on disk: a second process starts at once instead of compiling again.
 * ``fixed_interval``: classical RK4 with a fixed number of substeps, the real-time
   stepper (constant cost per control period).
 * ``run`` / ``run_batch``: a whole simulation over sample times with zero-order-hold
-  inputs, one parameter vector or many in parallel.
+  inputs, one parameter vector or many in parallel (each row over its own number of
+  samples).
 """
 import math
 
@@ -184,13 +185,18 @@ def record(t, x, u, ps, P, circuit, c, dx, X, Y, k):
 @njit(cache=True)
 def run(x0, t, u, ps, P, circuit, adaptive, rtol, atol, n_sub, X, Y):
     """Simulate over the sample times ``t`` with ZOH inputs; fills X, Y; returns status."""
+    return run_to(x0, t, u, ps, P, circuit, adaptive, rtol, atol, n_sub, X, Y, len(t))
+
+@njit(cache=True)
+def run_to(x0, t, u, ps, P, circuit, adaptive, rtol, atol, n_sub, X, Y, n):
+    """``run`` over the first ``n`` samples of ``t`` only (the rest of X, Y untouched)."""
     c = np.zeros(N_CONTEXT)
     w = np.zeros((9, N_STATE))
     x = x0.copy()
     project(x, P, circuit)
     record(t[0], x, u[0], ps[0], P, circuit, c, w[0], X, Y, 0)
     dt = 1e-5
-    for k in range(len(t) - 1):
+    for k in range(n - 1):
         h = t[k + 1] - t[k]
         if adaptive:
             status, dt = adaptive_interval(t[k], x, u[k], ps[k], P, circuit, h, dt, rtol,
@@ -201,12 +207,13 @@ def run(x0, t, u, ps, P, circuit, adaptive, rtol, atol, n_sub, X, Y):
         if status != OK:
             return status, k
         record(t[k + 1], x, u[k + 1], ps[k + 1], P, circuit, c, w[0], X, Y, k + 1)
-    return OK, len(t) - 1
+    return OK, n - 1
 
 @njit(cache=True, parallel=True)
-def run_batch(X0, t, U, PS, PM, circuit, adaptive, rtol, atol, n_sub, XB, YB, status):
-    """``run`` for each row of the parameter matrix ``PM`` (and of X0, U, PS), in parallel."""
+def run_batch(X0, t, U, PS, PM, circuit, adaptive, rtol, atol, n_sub, XB, YB, status, N):
+    """``run`` for each row of the parameter matrix ``PM`` (and of X0, U, PS), in parallel,
+    over the first ``N[m]`` samples of row m (windows of unequal length share one array)."""
     for m in prange(PM.shape[0]):
-        s, _ = run(X0[m], t, U[m], PS[m], PM[m], circuit, adaptive, rtol, atol, n_sub,
-                   XB[m], YB[m])
+        s, _ = run_to(X0[m], t, U[m], PS[m], PM[m], circuit, adaptive, rtol, atol, n_sub,
+                      XB[m], YB[m], N[m])
         status[m] = s

@@ -155,6 +155,8 @@ def _settle_effect_states(model: Model, x: np.ndarray, command_v: float, supply_
     for _ in range(iterations):
         model.evaluate(x, command_v, supply_pa, circuit, params=P, out=out)
         f = dx[first:].copy()
+        if not f.any():  # at rest already (a memory at its command): nothing to step
+            return
         moved = False
         for j, i in enumerate(range(first, model.n_states)):
             h = 1e-6 * max(abs(x[i]), tol[i] * 1e3)
@@ -242,11 +244,14 @@ def simulate(model=None, t=None, command_v=5.0, supply_pa=None, x0=None,
 
 
 def simulate_batch(model: Model, t, command_v, supply_pa, x0s, param_matrix,
-                   circuit='servo', method='adaptive', rtol=DEFAULT_RTOL, substeps=10):
+                   circuit='servo', method='adaptive', rtol=DEFAULT_RTOL, substeps=10,
+                   lengths=None):
     """Simulate one trajectory per row of ``param_matrix`` in parallel (no delays applied).
 
     ``command_v``/``supply_pa`` are (n,) shared or (m, n) per row; ``x0s`` is
-    (m, n_states). Returns states (m, n, n_states) and a status per row (0 = ok).
+    (m, n_states); ``lengths`` (m,) the samples each row is simulated over (default all
+    n; beyond them its states are NaN). Returns states (m, n, n_states), outputs and a
+    status per row (0 = ok).
     """
     t = np.asarray(t, dtype=float)
     pm = np.ascontiguousarray(param_matrix, dtype=float)
@@ -257,8 +262,10 @@ def simulate_batch(model: Model, t, command_v, supply_pa, x0s, param_matrix,
     XB = np.full((m, len(t), model.n_states), np.nan)  # a failed row shows where it stopped
     YB = np.empty((m, len(t), len(OUTPUT_NAMES)))
     status = np.zeros(m, dtype=np.int64)
+    N = np.full(m, len(t), dtype=np.int64) if lengths is None else np.minimum(
+        np.asarray(lengths, dtype=np.int64), len(t))
     model.kernels['run_batch'](X0, t, U, PS, pm, CIRCUITS[circuit], method == 'adaptive',
-                               rtol, model.abs_tol, int(substeps), XB, YB, status)
+                               rtol, model.abs_tol, int(substeps), XB, YB, status, N)
     return XB, YB, status
 
 

@@ -76,7 +76,8 @@ def _predict(model, exp, configs, plan, rtol):
     P = np.repeat(np.array(params), len(segs), axis=0)
     tw = exp.t[:win] - exp.t[0]
     XB, _, status = simulate_batch(model, tw, stack_windows(win, segs, us),
-                                   stack_windows(win, segs, pss), X0, P, exp.circuit, rtol=rtol)
+                                   stack_windows(win, segs, pss), X0, P, exp.circuit, rtol=rtol,
+                                   lengths=[b - a for a, b in segs] * len(cfgs))
     out = []
     for j in range(len(cfgs)):
         rows = range(j * len(segs), (j + 1) * len(segs))

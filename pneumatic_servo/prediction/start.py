@@ -109,7 +109,8 @@ def start_states(model: Model, exp: Experiment, signals: dict, cfgs, us, pss, pa
     XB, _, status = simulate_batch(model, exp.t[:lead + 1] - exp.t[0],
                                    stack_windows(lead + 1, pre, us),
                                    stack_windows(lead + 1, pre, pss),
-                                   at([a for a, _ in pre]), P, exp.circuit)
+                                   at([a for a, _ in pre]), P, exp.circuit,
+                                   lengths=[b - a for a, b in pre] * len(rows))
     keep = [i for i, sig in MEASURED_STATES[exp.circuit] if sig in exp.signals]
     X0 = np.empty((len(pre) * len(rows), model.n_states))
     for r, (a, b) in enumerate(pre * len(rows)):
