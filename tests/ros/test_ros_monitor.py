@@ -7,10 +7,12 @@ WARN."""
 import json
 import math
 import signal
+import time
 
 import numpy as np
 import yaml
 from rostest_helpers import level
+from std_msgs.msg import Float64MultiArray
 
 from pneumatic_servo.control.reference import TrajectoryPoint
 from pneumatic_servo.ros import common
@@ -172,10 +174,19 @@ def test_a_run_recorded_with_the_monitor_reads_in_compare_and_fleet(procs, probe
     probe.spin_until(lambda: any(int(v['windows']) > 0 for n, _, v, _ in verdicts(probe)
                                  if n in CHANNEL_NAMES), 90.0, 'the first verdicts')
     bag = tmp_path / 'recorded'
-    # 8 s: the monitor's worker reports every few seconds, later on a loaded machine (a 4 s
-    # record once held no /monitor/residuals while the plant ran at 340 Hz in CI)
-    rec = procs.start('record', bag, '--duration', '8', '--monitor', name='record')
-    assert rec.wait(60) == 0, procs.log(rec)
+    # recorded until the monitor's worker has published residuals into it (every few
+    # seconds, later on a loaded machine: a 4 s record once held none), then stopped as a
+    # user stops a recording: with Ctrl-C
+    residuals = []
+    probe.node.create_subscription(Float64MultiArray, '/monitor/residuals',
+                                   lambda m: residuals.append(time.monotonic()), 10)
+    rec = procs.start('record', bag, '--duration', '120', '--monitor', name='record')
+    probe.spin_until(lambda: probe.node.count_subscribers('/monitor/residuals') >= 2, 60.0,
+                     'the recorder on /monitor/residuals')
+    listening = time.monotonic()
+    probe.spin_until(lambda: any(t > listening + 3.0 for t in residuals), 90.0,
+                     'residuals published while recording')
+    assert procs.stop(rec, signal.SIGINT, 30.0) == 0, procs.log(rec)
     counts = {t['topic_metadata']['name']: t['message_count'] for t in yaml.safe_load(
         (bag / 'metadata.yaml').read_text())['rosbag2_bagfile_information'][
         'topics_with_message_count']}
