@@ -138,3 +138,22 @@ def test_quantum_of_an_encoder():
     angle = np.round(np.linspace(0.0, 0.2, 5000) / step) * step
     assert quantum(angle) == pytest.approx(step)
     assert quantum(np.random.default_rng(0).normal(size=5000)) == 0.0
+
+
+@pytest.mark.parametrize('effect', ['external_leakage', 'external_load_torque',
+                                    'valve_spool_dynamics'])
+def test_a_candidates_floor_runs_on_the_composition_it_was_fitted_on(effect):
+    """What a named effect leaves is judged against its own floor, simulated with the fit's
+    own compiled composition (host_for): no other composition is compiled for it, and the
+    fitted values are the candidate's."""
+    from pneumatic_servo.analysis.diagnosis.hosts import fitted_on, host_for
+    from pneumatic_servo.model import ModelConfig
+    base = ModelConfig.paper()
+    values = example_values(effect)
+    config = base.with_effect(effect, values)
+    config.core['stroke_rad'] *= 1.01  # a refitted base key travels with it
+    host = fitted_on(base, config)
+    assert ([c.name for c in host.component_classes()]
+            == [c.name for c in host_for(base, effect).component_classes()])
+    assert host.values_of(effect) == config.values_of(effect)
+    assert host.core == config.core

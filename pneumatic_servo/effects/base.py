@@ -104,13 +104,14 @@ class Component:
     #: Whether it shows in steady states (static tables); a lag or a delay does not.
     steady: ClassVar[bool] = True
     #: Whether it may sit switched off (at ``neutral``) in a compiled host model shared by
-    #: several candidates: true for effects whose hooks cost next to nothing, since each
-    #: composition takes seconds to compile.
+    #: several candidates: true for effects whose hooks cost next to nothing there (short,
+    #: or ``skipped_at_neutral``), since each composition takes seconds to compile.
     shares_host: ClassVar[bool] = False
     #: Whether the compiled model calls its hooks only while a parameter differs from
     #: ``neutral``: for a stateless component that sits at neutral in most simulations and
-    #: has many terms, like a generic correction (for a short hook the test costs more
-    #: than the call, measured; a state would stop moving, which changes the step control).
+    #: costs something there, like a leak's orifice flow or a generic correction's terms
+    #: (for a short hook the test costs more than the call, measured; a state would stop
+    #: moving, which changes the step control).
     skipped_at_neutral: ClassVar[bool] = False
     #: The experiment that excites this effect more than its look-alikes, in words.
     excitation: ClassVar[str] = ''

@@ -142,6 +142,8 @@ class ValveNullLeakage(Component):
     excitation = ('a closed-port or flow-rate table at voltages within 0.5 V of the centre '
                   '(the leak has the shape of an orifice, not a gap)')
     neutral = {'null_leak_area_m2': 0.0}
+    shares_host = True  # its orifice flow is skipped while the area is zero
+    skipped_at_neutral = True
     summary = 'leakage at and near the centre behaves like an orifice, not a laminar gap'
     reference = 'underlap/land leakage of proportional spool valves'
     acts_on = 'pressure'
@@ -214,6 +216,8 @@ class PistonSealLeakage(Component):
     excitation = ('pistons blocked with a pressure difference and the valve at its centre '
                   '(the chambers converge to each other)')
     neutral = {'seal_leak_area_m2': 0.0}
+    shares_host = True  # its orifice flow is skipped while the area is zero
+    skipped_at_neutral = True
     summary = 'gas leaks from chamber a to chamber b across the pistons'
     reference = 'worn or cold piston seals'
     acts_on = 'pressure'
@@ -239,6 +243,8 @@ class ExternalLeakage(Component):
     excitation = ('pistons blocked with the valve at its centre (both chambers decay towards '
                   'atmosphere)')
     neutral = {'leak_area_a_m2': 0.0, 'leak_area_b_m2': 0.0}
+    shares_host = True  # its orifice flow is skipped while the area is zero
+    skipped_at_neutral = True
     summary = 'gas leaks from a chamber to atmosphere'
     reference = 'leaky fittings and shaft seals'
     acts_on = 'pressure'

@@ -37,3 +37,19 @@ def host_for(base: ModelConfig, name: str) -> ModelConfig:
     if neutral(name) is not None:
         host = host.with_effect(name, neutral(name))
     return host
+
+
+def fitted_on(base: ModelConfig, config: ModelConfig) -> ModelConfig:
+    """``config``, which is ``base`` with one effect added (a candidate's model), on the
+    composition that effect was fitted on (:func:`host_for`): its floor and refits then run
+    the fit's own compiled code. Any other ``config``: on its shared host."""
+    added = [name for name in config.effects if name not in base.effects]
+    if len(added) != 1:
+        return shared_host(config)
+    host = host_for(base, added[0]).copy()
+    host.core.update(config.core)
+    for name, values in config.components.items():
+        host.components[name] = dict(values)
+    for name, values in config.effects.items():  # an existing key keeps its place
+        host.effects[name] = dict(values)
+    return host

@@ -206,7 +206,7 @@ def make_trial(data: Data, base: Baseline, free: tuple[str, ...], options: Diagn
                named: int) -> Trial:
     """The frozen context of the diagnosis: with the sensor noise, the prediction floor of
     the model as given and the test levels for ``named`` candidates and the discovery."""
-    floor = floor_for(base.config, data, options)
+    floor = floor_for(shared_host(base.config), data, options)
     tries = named + (options.discovery_fits if options.discover else 0)
     levels = Levels.of(options.false_alarm_rate, len(floor.series_channels), tries)
     host = shared_host(base.config)

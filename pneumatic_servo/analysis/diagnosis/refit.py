@@ -31,7 +31,7 @@ from ...model.assembly import Model
 from .candidates import Candidate, screen_effect, try_effect
 from .criteria import Departures
 from .floor import replica_data
-from .hosts import shared_host
+from .hosts import fitted_on
 from .scoring import score_many
 from .status import best_generic, clearly_better
 
@@ -42,7 +42,7 @@ REFITS = 3
 def refit_log_ratios(trial, cand: Candidate, count: int = REFITS) -> dict[str, np.ndarray]:
     """Channel (and ``'overall'``) -> log ratios of the held-out mean square of ``cand``
     refitted on each of ``count`` whole replicas to that of ``cand`` itself there."""
-    host = shared_host(cand.config)
+    host = fitted_on(trial.base.config, cand.config)
     model = Model(host)
     rng = np.random.default_rng(trial.options.seed + 1)
     out: dict[str, list[float]] = {}

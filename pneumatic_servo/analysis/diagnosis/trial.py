@@ -10,14 +10,14 @@ from .candidates import Baseline
 from .criteria import Departures, Levels, departures
 from .data import Data
 from .floor import Floor, measure_floor
-from .hosts import shared_host
+from .hosts import fitted_on
 from .options import DiagnoseOptions
 from .scoring import Score
 
 
-def floor_for(config: ModelConfig, data: Data, options: DiagnoseOptions) -> Floor:
-    """The prediction floor of ``config`` on ``data`` (:func:`.floor.measure_floor`)."""
-    host = shared_host(config)
+def floor_for(host: ModelConfig, data: Data, options: DiagnoseOptions) -> Floor:
+    """The prediction floor of ``host`` (a model on the composition it is simulated on) on
+    ``data`` (:func:`.floor.measure_floor`)."""
     return measure_floor(Model(host), host, data, options.replicas, options.seed)
 
 
@@ -59,5 +59,6 @@ class Trial:
     def floor_of(self, config: ModelConfig) -> Floor:
         """The prediction floor of another model (a candidate's) on these records: what a
         model leaves depends on the model, so what a named effect leaves is judged against
-        its own floor, not the floor of the model it corrects."""
-        return floor_for(config, self.data, self.options)
+        its own floor, not the floor of the model it corrects. Simulated on the composition
+        the candidate was fitted on (:func:`.hosts.fitted_on`)."""
+        return floor_for(fitted_on(self.base.config, config), self.data, self.options)
