@@ -137,7 +137,7 @@ class Data:
                 out.append(val)
                 continue
             q = max(1, int(round(fit.exp.dt / val.exp.dt)))
-            out.append(coarse(val, q, (val.smooth * val.exp.dt)) if q > 1 else val)
+            out.append(coarse(val, q, val.smooth * val.exp.dt) if q > 1 else val)
         return out
 
     @property

@@ -206,10 +206,10 @@ def make_trial(data: Data, base: Baseline, free: tuple[str, ...], options: Diagn
                named: int) -> Trial:
     """The frozen context of the diagnosis: with the sensor noise, the prediction floor of
     the model as given and the test levels for ``named`` candidates and the discovery."""
-    floor = floor_for(shared_host(base.config), data, options)
+    host = shared_host(base.config)
+    floor = floor_for(host, data, options)
     tries = named + (options.discovery_fits if options.discover else 0)
     levels = Levels.of(options.false_alarm_rate, len(floor.series_channels), tries)
-    host = shared_host(base.config)
     return Trial(data, base, free, options, data.noise(Model(host), host), floor, levels)
 
 
