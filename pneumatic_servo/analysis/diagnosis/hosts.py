@@ -21,12 +21,18 @@ def shared_host(config: ModelConfig) -> ModelConfig:
     """``config`` plus every shareable registered effect it lacks, at neutral values.
 
     It predicts exactly what ``config`` predicts, and trying any of those
-    effects on it needs no new compilation.
+    effects on it needs no new compilation. The shareable effects come last, in the
+    registry's order, whether ``config`` holds some of them or not: the model a named
+    effect was fitted into (a second round, the pair, the discovery on top) then shares
+    the compiled host of the model as given instead of compiling the same effects in
+    another order.
     """
-    host = config
-    for name in registry.names():
-        if name not in host.effects and registry.get(name).slot is None and shareable(name):
-            host = host.with_effect(name, neutral(name))
+    names = [n for n in registry.names()
+             if registry.get(n).slot is None and shareable(n)]
+    host = config.copy()
+    held = {n: host.effects.pop(n) for n in names if n in host.effects}
+    for name in names:
+        host = host.with_effect(name, held.get(name, neutral(name)))
     return host
 
 
