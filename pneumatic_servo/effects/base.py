@@ -108,10 +108,10 @@ class Component:
     #: or ``skipped_at_neutral``), since each composition takes seconds to compile.
     shares_host: ClassVar[bool] = False
     #: Whether the compiled model calls its hooks only while a parameter differs from
-    #: ``neutral``: for a stateless component that sits at neutral in most simulations and
-    #: costs something there, like a leak's orifice flow or a generic correction's terms
-    #: (for a short hook the test costs more than the call, measured; a state would stop
-    #: moving, which changes the step control).
+    #: ``neutral``: for a component that sits at neutral in most simulations and costs
+    #: something there, like a leak's orifice flow or a generic correction's terms (for a
+    #: short hook the test costs more than the call, measured). Ignored for a component
+    #: with states: skipped, they would stop moving, which changes the step control.
     skipped_at_neutral: ClassVar[bool] = False
     #: The experiment that excites this effect more than its look-alikes, in words.
     excitation: ClassVar[str] = ''

@@ -205,6 +205,9 @@ class Correction(Component):
     """Base of the generic corrections: never tried as a named effect."""
 
     generic = True
+    #: every term at zero in most simulations (a correction with the command's memory has
+    #: a state, and is called always: see ``Component.skipped_at_neutral``)
+    skipped_at_neutral = True
     summary = 'a generic correction term found by diagnosis'
     reference = 'analysis.diagnosis.discovery'
 
@@ -230,8 +233,6 @@ def _correction_class(eq: Equation, hooks: dict) -> type[Component]:
              'neutral': {p.name: 0.0 for p in params}, 'acts_on': eq.acts_on,
              'circuits': eq.circuits, 'order': eq.order,
              'states': (MEMORY_STATE,) if eq.memory else (),
-             # a memory keeps moving at zero coefficients, as the step control sees it
-             'skipped_at_neutral': not eq.memory,
              '__doc__': f'Generic correction: {eq.description} [{eq.unit}], a linear '
                         'combination of the terms.'}
     if eq.signal is None:

@@ -93,7 +93,7 @@ def start_states(model: Model, exp: Experiment, signals: dict, cfgs, us, pss, pa
     """
     physical = [physical_signals(model, cfg, signals, u, ps, exp.t)
                 for cfg, u, ps in zip(cfgs, us, pss)]
-    rows = [(cfg, sig, u, ps, p) for cfg, sig, u, ps, p in zip(cfgs, physical, us, pss, params)]
+    rows = list(zip(cfgs, physical, us, pss, params))
 
     def at(starts):
         """measured_state of every (config, start sample), config-major."""

@@ -47,15 +47,9 @@ def host_for(base: ModelConfig, name: str) -> ModelConfig:
 
 def fitted_on(base: ModelConfig, config: ModelConfig) -> ModelConfig:
     """``config``, which is ``base`` with one effect added (a candidate's model), on the
-    composition that effect was fitted on (:func:`host_for`): its floor and refits then run
-    the fit's own compiled code. Any other ``config``: on its shared host."""
+    composition that effect was fitted on (:func:`host_for`): ``config`` itself for an
+    effect that does not share the host, else its shared host (the same composition, as
+    :func:`shared_host` orders the shareable effects alike). Its floor and refits then run
+    the fit's own compiled code."""
     added = [name for name in config.effects if name not in base.effects]
-    if len(added) != 1:
-        return shared_host(config)
-    host = host_for(base, added[0]).copy()
-    host.core.update(config.core)
-    for name, values in config.components.items():
-        host.components[name] = dict(values)
-    for name, values in config.effects.items():  # an existing key keeps its place
-        host.effects[name] = dict(values)
-    return host
+    return config if len(added) == 1 and not shareable(added[0]) else shared_host(config)
