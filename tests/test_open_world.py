@@ -53,6 +53,30 @@ def test_unlisted_effect_is_located_and_never_misnamed(cls, unlisted):
     assert result.ladder[-1]['overall'] <= 0.5 * result.ladder[0]['overall']
 
 
+def test_the_report_shows_the_learned_shape_with_its_band(unlisted, tmp_path):
+    """The correction's 95 % band comes from its coefficients' covariance: the variance of
+    each coefficient alone is its squared standard error, and the plot is drawn from it."""
+    import numpy as np
+
+    from pneumatic_servo.analysis.diagnosis_report import _term_covariance, write_diagnosis_report
+    from pneumatic_servo.effects.corrections import BY_EQUATION
+    from pneumatic_servo.synth.unlisted import ArmSpring
+    result = unlisted(ArmSpring)
+    best = result.discovered[0]
+    names = [t.name for t in BY_EQUATION[best.equation].equation.terms]
+    cov = _term_covariance(best, names)
+    for reg, key in zip(best.terms, best.params):
+        i = names.index(reg)
+        assert cov[i, i] == pytest.approx(best.stderr[key] ** 2, rel=1e-9)
+    assert np.allclose(cov, cov.T) and np.all(np.linalg.eigvalsh(cov) > -1e-12 * cov.max())
+    # a term the correction does not hold adds no uncertainty
+    unused = [names.index(n) for n in names if n not in best.terms]
+    assert not np.any(cov[unused])
+    write_diagnosis_report(tmp_path, result)
+    assert 'equation_residual.png' in (tmp_path / 'index.html').read_text()
+    assert (tmp_path / 'equation_residual.png').stat().st_size > 5000
+
+
 def test_a_sensor_error_is_called_one(unlisted):
     from pneumatic_servo.synth.unlisted import TransmitterOffsetA
     result = unlisted(TransmitterOffsetA)

@@ -2,7 +2,8 @@
 was found and where the model fails.
 
 Sections: the status and what to do next; the discovered corrections with their
-interpretation and a plot of the equation's residual against the leading regressor;
+interpretation and a plot of the equation's residual against the leading regressor,
+with the learned correction and its 95 % band;
 the ladder (the held-out error as effects are added, a channel that gets worse flagged);
 the ranking of the named effects; measured against simulated signals; the residuals,
 the regime heat map and the residual tests of the model as given.
@@ -143,12 +144,28 @@ def _discovered(out_dir: Path, result: Diagnosis) -> list[str]:
     return out
 
 
+def _term_covariance(term, names: list[str]) -> np.ndarray:
+    """Covariance [SI] of the correction's coefficients over the equation's terms ``names``
+    (zero for terms it does not hold; NaN where the fit could not determine one): the fit's
+    correlation (its first rows are the correction's terms) scaled by the standard errors."""
+    held = list(term.terms)
+    se = np.array([np.nan if term.stderr.get(k) is None else term.stderr[k]
+                   for k in term.params], dtype=float)
+    corr = (term.correlation[:len(held), :len(held)] if term.correlation is not None
+            else np.full((len(held), len(held)), np.nan))
+    cov = np.zeros((len(names), len(names)))
+    at = [names.index(r) for r in held]
+    cov[np.ix_(at, at)] = corr * np.outer(se, se)
+    return cov
+
+
 def _residual_plot(out_dir: Path, result: Diagnosis, term) -> str | None:
     """The discovered term's equation residual against its leading regressor."""
     reg = leading(term.terms)
     eq = BY_EQUATION[term.equation].equation
     names = [t.name for t in eq.terms]
     coef = np.array([term.terms.get(r, 0.0) for r in names])
+    cov = _term_covariance(term, names)
     points = []
     for exp, pred in zip(result.data.experiments, result.base_predictions):
         found = equation_residual(result.baseline.config, exp, pred, term.equation)
@@ -157,12 +174,13 @@ def _residual_plot(out_dir: Path, result: Diagnosis, term) -> str | None:
         res, ok, regs = found
         ok = ok & np.isfinite(res)
         if ok.sum() > 20:
-            points.append((regs[ok, names.index(reg)], res[ok], regs[ok] @ coef))
+            sd = np.sqrt(np.einsum('ij,jk,ik->i', regs[ok], cov, regs[ok]))
+            points.append((regs[ok, names.index(reg)], res[ok], regs[ok] @ coef, sd))
     if not points:
         return None
     shown = eq.shown_as or term.equation
     return plot_equation_residual(out_dir, points, shown, reg, BY_EQUATION[shown].equation.unit,
-                                  TERMS[reg].unit)
+                                  TERMS[reg].unit, eq.unit)
 
 
 def _ranking_table(ranking: list[dict]) -> str:

@@ -195,37 +195,55 @@ def plot_ladder(out_dir: Path, ladder: list[dict], name: str = 'ladder.png') -> 
 
 
 def plot_equation_residual(out_dir: Path, points: list[tuple], equation: str, regressor: str,
-                           unit: str, reg_unit: str, name: str = 'equation_residual.png'
-                           ) -> str:
+                           unit: str, reg_unit: str, term_unit: str | None = None,
+                           name: str = 'equation_residual.png') -> str:
     """The residual of ``equation`` [``unit``] against the leading regressor of a discovered
-    correction, with binned medians and the correction's own value at the same samples.
+    correction, with binned medians: the shape the data show, and the learned correction
+    at the same samples with its 95 % band (from the standard errors and correlation of its
+    fitted coefficients).
 
-    ``points`` holds (regressor values, residual, correction) arrays per experiment.
+    ``points`` holds (regressor values, residual, correction, its standard deviation) arrays
+    per experiment. A correction in another unit than the residual (``term_unit``: the valve
+    input's volts, seen through a chamber's mass balance) is drawn against its own axis.
     """
     plt = _plt()
-    x = np.concatenate([p[0] for p in points])
-    y = np.concatenate([p[1] for p in points])
-    term = np.concatenate([p[2] for p in points])
+    x, y, term, sd = (np.concatenate([p[i] for p in points]) for i in range(4))
     fig, ax = plt.subplots(figsize=(7.5, 4.2))
     keep = np.random.default_rng(0).permutation(len(x))[:4000]
     ax.plot(x[keep], y[keep], '.', ms=2, color='0.65', label='residual at each sample')
     edges = np.quantile(x, np.linspace(0.0, 1.0, 21))
-    mids, med, fit = [], [], []
+    mids, med, fit, half = [], [], [], []
     for lo, hi in zip(edges[:-1], edges[1:]):
         m = (x >= lo) & (x <= hi)
         if m.sum() >= 10:
             mids.append(np.median(x[m]))
             med.append(np.median(y[m]))
             fit.append(np.median(term[m]))
-    ax.plot(mids, med, 'o-', color='tab:red', label='binned median')
-    ax.plot(mids, fit, 's--', color='tab:blue', label='the discovered correction')
+            half.append(1.96 * np.median(sd[m]))
+    fit, half = np.array(fit), np.array(half)
+    ax.plot(mids, med, 'o-', color='tab:red', label='binned median: the shape in the data')
+    own = term_unit not in (None, unit)
+    tx = ax.twinx() if own else ax
+    tx.plot(mids, fit, 's--', color='tab:blue',
+            label='the learned correction' + (f' [{term_unit}], right axis' if own else ''))
+    if np.all(np.isfinite(half)):
+        tx.fill_between(mids, fit - half, fit + half, color='tab:blue', alpha=0.25,
+                        label=f'its 95 % band (fit uncertainty, at most \u00b1{half.max():.2g})')
     lo, hi = np.percentile(y, [1, 99])
     pad = 0.2 * (hi - lo) or 1.0
     ax.set_ylim(lo - pad, hi + pad)
     ax.axhline(0.0, color='k', lw=0.5)
     ax.set_xlabel(f'{regressor} [{reg_unit}]', fontsize=9)
     ax.set_ylabel(f'{equation} residual [{unit}]', fontsize=9)
+    if own:
+        tx.set_ylabel(f'correction [{term_unit}]', fontsize=9, color='tab:blue')
+        # the same limits scaled: zero sits level with the residual's, so the shapes compare
+        y0, y1 = ax.get_ylim()
+        reach = np.nanmax(np.abs(np.concatenate([fit - half, fit + half]))) * 1.2 or 1.0
+        k = reach / max(abs(y0), abs(y1))
+        tx.set_ylim(k * y0, k * y1)
     ax.set_title(f'What the {equation} lacks, against {regressor}', fontsize=10)
-    ax.legend(fontsize=8)
+    handles = [h for a in {ax, tx} for h in a.get_legend_handles_labels()[0]]
+    ax.legend(handles=handles, fontsize=8)
     fig.tight_layout()
     return _save(fig, out_dir, name)

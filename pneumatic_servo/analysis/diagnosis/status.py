@@ -9,8 +9,9 @@ Every word is a test of :mod:`.criteria` against the record's prediction floor:
   earns its place on top of it (two effects are missing; the next round finds the other);
 * ``unexplained``: the model departs and no named effect accounts for all of it. A named
   effect that earns its place but leaves a departure (and no second one accounts for the
-  rest), or that a generic correction beats clearly, is listed as a partial fit, never as
-  the answer.
+  rest), or that a generic correction beats clearly (unless a second named effect on top of
+  it beats that correction clearly in turn), is listed as a partial fit, never as the
+  answer.
 """
 from __future__ import annotations
 
@@ -159,14 +160,19 @@ def decide(trial: Trial, ranking: list[Candidate], discovered: list[Candidate],
     base = trial.departures(trial.base.score)
     if named is not None and found is not None and clearly_better(trial, found, named, left):
         both_fit = pair is not None and certain(pair.step, trial.options)
-        if both_fit and not clearly_better(trial, found, pair.both):
+        # two names are the answer only where together they beat the generic term clearly:
+        # two wrong effects can mimic one unlisted one about as well (a lagging transmitter
+        # as a dead volume with a slow spool)
+        if both_fit and clearly_better(trial, pair.both, found):
             return _named(trial, named, ranking, left, pair, structured=True)
         partial = tuple(c.effect for c in ranking if earns_place(c, trial.options))
+        tie = (f'; {named.effect} with {pair.step.effect} on top explains it only about as '
+               'well, so neither is named') if both_fit else ''
         return Finding(Status.UNEXPLAINED, reason=(
             f'no name on the list fits: {named.effect} fits only part of it '
             f'({100 * named.error_reduction:.0f} %), while a generic {found.equation} term '
             f'explains the held-out data clearly better ({100 * found.error_reduction:.0f} %): '
-            f'{found.interpretation}'), partial=partial or (named.effect,))
+            f'{found.interpretation}{tie}'), partial=partial or (named.effect,))
     if named is not None:
         return _named(trial, named, ranking, left, pair)
     if found is not None:
