@@ -25,18 +25,13 @@ import math
 import numpy as np
 
 from pneumatic_servo._jit import njit
-from pneumatic_servo.effects import Component, Param, State
+from pneumatic_servo.effects import Component, Param
 from pneumatic_servo.effects.layout import (
     C_PE,
     C_PS,
     C_PS_REG,
     C_TE,
     C_TORQUE,
-    C_U,
-    C_XV,
-    K_GAIN,
-    K_HALF_W,
-    K_HOLE_R,
     OMEGA,
     P_A,
     P_B,
@@ -44,36 +39,17 @@ from pneumatic_servo.effects.layout import (
     THETA,
     add_flow,
 )
+from pneumatic_servo.synth.unlisted import SolenoidHysteresis as _UnlistedHysteresis
 
 DEG = math.pi / 180.0
 
 
 # --- memory ------------------------------------------------------------------------------
-def _hysteresis_hook(t, x, s, p, P, c, dx):
-    # the solenoid's flux remembers the direction of the last command change: the spool sits
-    # as if the command were p[0] volts behind it; the memory follows outside a band of
-    # p[1] volts within half a millisecond
-    d = c[C_U] - x[s]
-    half = 0.5 * p[1]
-    dx[s] = (d - min(max(d, -half), half)) / 5e-4
-    lim = P[K_HALF_W] + P[K_HOLE_R]
-    c[C_XV] = min(max(c[C_XV] - P[K_GAIN] * p[0] * min(max(d / half, -1.0), 1.0), -lim), lim)
-
-
-class SolenoidHysteresis(Component):
-    """Magnetic hysteresis of the proportional solenoid."""
+class SolenoidHysteresis(_UnlistedHysteresis):
+    """Magnetic hysteresis of the proportional solenoid (the physics of the package's
+    bundled memory demo, :mod:`pneumatic_servo.synth.unlisted`, under its own name)."""
 
     name = 'open_world_solenoid_hysteresis'
-    params = (Param('lag_v', 'V', 0.06, 0.0, 1.0, 'command lag in the last direction'),
-              Param('band_v', 'V', 0.1, 1e-3, 1.0, 'width of the hysteresis band', fit=False))
-    states = (State('flux_memory_v', 'V', 1e-3, 'command as the flux remembers it'),)
-    order = 12
-    valve = _hysteresis_hook
-
-    @classmethod
-    def initial_state(cls, values, command_v, supply_pa, core):
-        return [command_v]
-
     equations, depends, closed_form = ('valve_input',), ({'command_direction'},), \
         ('command_direction',)
 

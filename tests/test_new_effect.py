@@ -68,3 +68,29 @@ def test_one_class_is_simulated_generated_fitted_and_diagnosed(spring):
                       options=DiagnoseOptions(full_fits=3))
     assert result.verdict == spring, result.reason
     assert 'both ends of the stroke' in suggest_experiment(spring, 'external_load_torque')
+
+
+def _plain_preload_hook(t, x, s, p, P, c, dx):  # a plain function: register compiles it
+    c[C_TORQUE] += p[0] * (x[THETA] - p[1])
+
+
+class _PlainSpring(PreloadedSpring):
+    name = 'test_plain_spring'
+    mechanics = _plain_preload_hook
+
+
+class StifferSpring(_PlainSpring):
+    """A user's variant of an effect class: it inherits the hook and changes the name."""
+
+    name = 'test_stiffer_spring'
+    example = {'rate_n_m_per_rad': -0.3}
+
+
+def test_a_subclass_inherits_a_plain_hook_and_runs():
+    registry.register(StifferSpring)  # its parent was never registered, so never compiled
+    try:
+        t = np.arange(0.0, 0.5, 1e-3)
+        moved = simulate(Model(hidden_config([StifferSpring.name])), t, 5.4).angle_rad[-1]
+        assert abs(moved - simulate(None, t, 5.4).angle_rad[-1]) > 1e-3
+    finally:
+        registry._REGISTRY.pop(StifferSpring.name, None)

@@ -47,7 +47,7 @@ def register(cls: type[Component]) -> type[Component]:
         raise ConfigError(f'effect {cls.name!r} adds nothing: give it a hook, a delay or a '
                           'sensor error')
     for stage in STAGES:
-        hook = cls.__dict__.get(stage)
+        hook = cls.hook(stage)  # inherited too: a subclass of an unregistered effect
         if hook is not None and not is_compiled(hook):
             setattr(cls, stage, njit(hook))
     _REGISTRY[cls.name] = cls

@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from .. import effects as registry
-from ..effects import Component, Param
+from ..effects import Component, Param, State
 from ..effects.layout import (
     C_TE,
     C_TORQUE,
@@ -108,6 +108,34 @@ class TransmitterOffsetA(Component):
     sensor_error = staticmethod(_offset_a)
 
 
+def _hysteresis_hook(t, x, s, p, P, c, dx):
+    # the solenoid's flux remembers the direction of the last command change: the spool sits
+    # as if the command were p[0] volts behind it; the memory follows outside a band of
+    # p[1] volts within half a millisecond
+    d = c[C_U] - x[s]
+    half = 0.5 * p[1]
+    dx[s] = (d - min(max(d, -half), half)) / 5e-4
+    lim = P[K_HALF_W] + P[K_HOLE_R]
+    c[C_XV] = min(max(c[C_XV] - P[K_GAIN] * p[0] * min(max(d / half, -1.0), 1.0), -lim), lim)
+
+
+class SolenoidHysteresis(Component):
+    """Magnetic hysteresis of the proportional solenoid: the spool lags the command by
+    ``lag_v`` in the direction the command last moved (an effect with memory)."""
+
+    name = 'unlisted_solenoid_hysteresis'
+    summary = 'spool lags the command in the direction it last moved'
+    params = (Param('lag_v', 'V', 0.06, 0.0, 1.0, 'command lag in the last direction'),
+              Param('band_v', 'V', 0.1, 1e-3, 1.0, 'width of the hysteresis band', fit=False))
+    states = (State('flux_memory_v', 'V', 1e-3, 'command as the flux remembers it'),)
+    order = 12
+    valve = _hysteresis_hook
+
+    @classmethod
+    def initial_state(cls, values, command_v, supply_pa, core):
+        return [command_v]
+
+
 #: effect class -> (equation, leading regressor) the discovery must name
 EXPECTED = {
     ArmSpring: ('moment_balance', 'angle'),
@@ -156,6 +184,25 @@ def write_demo_bag(bags_dir, seed: int = 9) -> Path:
                             compress=True)
 
 
+def write_memory_demo_bag(bags_dir, seed: int = 10) -> Path:
+    """Write ``bags/hysteresis_demo``: a 10 s, 1 kHz open-loop chirp of a rig whose
+    solenoid has magnetic hysteresis (:class:`SolenoidHysteresis`, an effect with memory
+    that no catalogue effect describes), through industrial sensors. Synthetic, and says so."""
+    from ..io import write_experiment
+    from .varied import Record, make_record
+    rec = Record('chirp', 1000.0, 10.0, seed=seed,
+                 effects={SolenoidHysteresis.name: SolenoidHysteresis.defaults()})
+    with _registered(SolenoidHysteresis):
+        exp = make_record(rec)
+    meta = {'synthetic': 'true', 'generator': 'pneumatic_servo.synth.unlisted', 'seed': seed,
+            'hidden_effects': {'unlisted: solenoid hysteresis, the spool lags the command by '
+                               'lag_v in the direction it last moved':
+                               SolenoidHysteresis.defaults()}, 'design': 'chirp'}
+    return write_experiment(exp, Path(bags_dir) / 'hysteresis_demo', 'mcap', meta,
+                            compress=True)
+
+
 if __name__ == '__main__':
     import sys
     print(write_demo_bag(sys.argv[1] if len(sys.argv) > 1 else 'bags'))
+    print(write_memory_demo_bag(sys.argv[1] if len(sys.argv) > 1 else 'bags'))
