@@ -154,3 +154,34 @@ def test_walkthrough_emit_rename_and_watch_the_error_fall(tmp_path):
            for name in ('before', 'after')}
     for ch in ('angle', 'p_a', 'p_b'):
         assert fit['after'][ch]['rmse'] < 0.5 * fit['before'][ch]['rmse'], ch
+
+
+def test_memory_walkthrough_unexplained_shape_closed_form_emitted_error_falls(tmp_path):
+    """The README's memory walkthrough on bags/hysteresis_demo: a solenoid's hysteresis is
+    unexplained, located in the valve input as the direction the command last moved, shown
+    as a shape with its band, written as an effect with a state, and it halves the error."""
+    bag = ROOT / 'bags' / 'hysteresis_demo'
+    proc = _cli('diagnose', bag, '--json', tmp_path / 'd.json', '--emit-effect',
+                tmp_path / 'hysteresis.py', '--report', tmp_path / 'report', cwd=tmp_path)
+    assert proc.returncode == 0, proc.stderr
+    data = json.loads((tmp_path / 'd.json').read_text())
+    assert data['status'] == 'unexplained' and data['verdict'] == 'none'
+    first = data['discovered'][0]
+    assert first['equation'] == 'valve_input'
+    assert leading(first['terms']) == 'command_direction', first['terms']
+    # the spool lags the command: a negative effective command in the direction it moved,
+    # near the truth (0.06 V)
+    assert -0.09 < first['terms']['command_direction'] < -0.03
+    assert data['ladder'][-1]['overall'] <= 0.5 * data['ladder'][0]['overall']
+    assert (tmp_path / 'report' / 'equation_residual.png').stat().st_size > 5000
+    source = (tmp_path / 'hysteresis.py').read_text()
+    assert 'states = (State(' in source  # the command's memory is the effect's own state
+    runs = {}
+    for name, extra in (('before', ()), ('after', ('--effects', f'{tmp_path / "hysteresis.py"}'
+                                                                ':DiscoveredValveInput'))):
+        out = _cli('compare', bag, *extra, '--json', tmp_path / f'{name}.json', cwd=tmp_path)
+        assert out.returncode == 0, out.stderr
+        runs[name] = json.loads((tmp_path / f'{name}.json').read_text())['k_step']['channels']
+    for ch in ('angle', 'p_a', 'p_b'):
+        assert runs['after'][ch]['rmse'] < runs['before'][ch]['rmse'], ch
+    assert runs['after']['angle']['rmse'] < 0.5 * runs['before']['angle']['rmse']

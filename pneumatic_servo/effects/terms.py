@@ -227,6 +227,11 @@ TERMS = (
     Term('sign_velocity_times_pressure_difference', 'Pa', 3e5,
          'direction of motion times p_a - p_b (friction that grows with the load)',
          f'np.tanh(velocity / {SIGN_VELOCITY_WIDTH}) * (p_a - p_b)', ('moment_balance',), 2),
+    Term('sign_velocity_times_abs_pressure_difference', 'Pa', 3e5,
+         'direction of motion times |p_a - p_b| (friction that grows with the load, whichever '
+         'way it pushes)',
+         f'np.tanh(velocity / {SIGN_VELOCITY_WIDTH}) * np.abs(p_a - p_b)', ('moment_balance',),
+         2),
     # memory
     Term('command_direction', '1', 1.0, 'direction in which the command last moved '
          '(hysteresis)', 'command_direction', ('valve_input',) + _FLOWS, 2),

@@ -61,6 +61,10 @@ def _moment(reg: str, c: float, terms: dict, core: dict) -> str:
     if reg == 'sign_velocity_times_pressure_difference':
         return (f'a friction that grows with the load p_a - p_b, {1e5 * abs(c):.3g} N.m per '
                 'bar: gear or bearing friction under load')
+    if reg == 'sign_velocity_times_abs_pressure_difference':
+        return (f'a friction that grows with the load |p_a - p_b| whichever way it pushes, '
+                f'{1e5 * abs(c):.3g} N.m per bar, ' + ('opposing' if c < 0 else 'aiding')
+                + ' the motion: gears or bearings loaded by the pressure difference')
     return f'a torque that follows the {DESCRIPTION[reg]}, {c:+.3g} per unit'
 
 
