@@ -16,6 +16,8 @@ import pytest
 from pneumatic_servo import effects as registry
 from pneumatic_servo.analysis.diagnosis import DiagnoseOptions, diagnose
 from pneumatic_servo.analysis.diagnosis.interpret import leading
+from pneumatic_servo.effects import Component, Param
+from pneumatic_servo.effects.layout import C_TORQUE, THETA
 from pneumatic_servo.synth.hidden import make_hidden_set
 from pneumatic_servo.synth.unlisted import EXPECTED, unlisted_data
 
@@ -75,6 +77,77 @@ def test_the_report_shows_the_learned_shape_with_its_band(unlisted, tmp_path):
     write_diagnosis_report(tmp_path, result)
     assert 'equation_residual.png' in (tmp_path / 'index.html').read_text()
     assert (tmp_path / 'equation_residual.png').stat().st_size > 5000
+
+
+def _engaging_hook(t, x, s, p, P, c, dx):
+    c[C_TORQUE] -= p[0] * max(x[THETA] - p[1], 0.0)
+
+
+class EngagingSpring(Component):
+    """A spring that engages only past 1.4 rad (a cable that tightens, a soft stop): a
+    shape over the stroke that no term of the vocabulary writes."""
+
+    name = 'test_engaging_spring'
+    params = (Param('rate_n_m_per_rad', 'N.m/rad', 0.3, 0.0, 5.0, 'rate once engaged'),
+              Param('engage_angle_rad', 'rad', 1.4, 0.0, 3.4, 'where it engages', fit=False))
+    mechanics = _engaging_hook
+
+
+@pytest.fixture(scope='module')
+def engaging():
+    """Records of a rig with :class:`EngagingSpring`, and their diagnosis."""
+    registry.register(EngagingSpring)
+    try:
+        exps = make_hidden_set({EngagingSpring.name: EngagingSpring.defaults()}, seed=11,
+                               designs=('closed_loop', 'sine'),
+                               durations={'closed_loop': 8.0, 'sine': 4.0}, rate_hz=250.0)
+    finally:
+        registry._REGISTRY.pop(EngagingSpring.name, None)
+    return exps, diagnose(exps)
+
+
+def test_where_no_closed_form_fits_the_shape_is_said_fitted_and_emitted(engaging, tmp_path):
+    """Shape before formula: the free shape over the stroke fits clearly better than the
+    vocabulary's closed form, the reason says so, it leads, it matches the spring where the
+    record reaches, and emitted as an effect it halves the error."""
+    from pneumatic_servo.analysis.compare import compare
+    from pneumatic_servo.analysis.diagnosis.emit import effect_source
+    from pneumatic_servo.effects.terms import N_KNOTS
+    exps, result = engaging
+    assert result.status == 'unexplained' and result.verdict == 'none', result.reason
+    assert 'no closed form in the vocabulary fits' in result.reason
+    shape, closed = result.discovered[0], result.discovered[1]
+    assert shape.equation == 'moment_balance' and set(shape.terms) == {
+        f'angle_shape_{k}' for k in range(N_KNOTS)}
+    assert shape.score.overall < closed.score.overall
+    assert result.ladder[-1]['overall'] <= 0.5 * result.ladder[0]['overall']
+    # the knots the record determines follow -k max(angle - 1.4, 0)
+    stroke = result.baseline.config.core['stroke_rad']
+    for reg, value in shape.terms.items():
+        k = int(reg.rsplit('_', 1)[1])
+        angle = k / (N_KNOTS - 1) * stroke
+        if shape.stderr[f'correction_moment_balance.{reg}_coefficient'] is not None \
+                and 0.5 < angle < 3.0:
+            assert value == pytest.approx(-0.3 * max(angle - 1.4, 0.0), abs=0.06), reg
+    # written out, the shape runs as a user effect and halves the k-step error
+    path = tmp_path / 'shape.py'
+    path.write_text(effect_source(shape, ['engaging spring']))
+    name = f'{path}:DiscoveredMomentBalance'
+    try:
+        errors = [compare(exps[0], effects=effects, mode='k_step')['channels']['angle']['rmse']
+                  for effects in ((), (name,))]
+    finally:
+        registry._REGISTRY.pop('discovered_moment_balance', None)
+        registry._IMPORTED.pop(name, None)
+    assert errors[1] < 0.5 * errors[0], errors
+
+
+def test_where_the_closed_form_fits_it_stands(unlisted):
+    """A spring-balanced arm is linear in the angle: a free shape explains no more."""
+    from pneumatic_servo.synth.unlisted import ArmSpring
+    result = unlisted(ArmSpring)
+    assert 'the closed form stands' in result.reason, result.reason
+    assert leading(result.discovered[0].terms) == 'angle'
 
 
 def test_a_sensor_error_is_called_one(unlisted):

@@ -2,8 +2,9 @@
 was found and where the model fails.
 
 Sections: the status and what to do next; the discovered corrections with their
-interpretation and a plot of the equation's residual against the leading regressor,
-with the learned correction and its 95 % band;
+interpretation and a plot of the equation's residual against the leading term (or the
+one variable it is a function of: a window or a free shape against the angle), with the
+learned correction and its 95 % band;
 the ladder (the held-out error as effects are added, a channel that gets worse flagged);
 the ranking of the named effects; measured against simulated signals; the residuals,
 the regime heat map and the residual tests of the model as given.
@@ -144,6 +145,13 @@ def _discovered(out_dir: Path, result: Diagnosis) -> list[str]:
     return out
 
 
+def _axis(reg: str, names: list[str]) -> str:
+    """What to plot against: the variable term ``reg`` is a function of, where it is one
+    and a term itself (a window or a knot of the shape: the angle), else ``reg``."""
+    used = [v for v in TERMS[reg].variables if v not in ('stroke', 'p_atm')]
+    return used[0] if len(used) == 1 and used[0] in names else reg
+
+
 def _term_covariance(term, names: list[str]) -> np.ndarray:
     """Covariance [SI] of the correction's coefficients over the equation's terms ``names``
     (zero for terms it does not hold; NaN where the fit could not determine one): the fit's
@@ -159,11 +167,22 @@ def _term_covariance(term, names: list[str]) -> np.ndarray:
     return cov
 
 
+def _band(regs: np.ndarray, cov: np.ndarray) -> np.ndarray:
+    """Standard deviation of the correction at each sample (rows of ``regs``) from the
+    coefficients' covariance; NaN where a term the fit could not determine is nonzero (a
+    knot of the shape the record does not reach)."""
+    unknown = np.isnan(np.diag(cov))
+    known = np.nan_to_num(cov)
+    sd = np.sqrt(np.maximum(np.einsum('ij,jk,ik->i', regs, known, regs), 0.0))
+    sd[np.any(regs[:, unknown] != 0.0, axis=1)] = np.nan
+    return sd
+
+
 def _residual_plot(out_dir: Path, result: Diagnosis, term) -> str | None:
-    """The discovered term's equation residual against its leading regressor."""
-    reg = leading(term.terms)
+    """The discovered term's equation residual against its leading term's variable."""
     eq = BY_EQUATION[term.equation].equation
     names = [t.name for t in eq.terms]
+    reg = _axis(leading(term.terms), names)
     coef = np.array([term.terms.get(r, 0.0) for r in names])
     cov = _term_covariance(term, names)
     points = []
@@ -174,7 +193,7 @@ def _residual_plot(out_dir: Path, result: Diagnosis, term) -> str | None:
         res, ok, regs = found
         ok = ok & np.isfinite(res)
         if ok.sum() > 20:
-            sd = np.sqrt(np.einsum('ij,jk,ik->i', regs[ok], cov, regs[ok]))
+            sd = _band(regs[ok], cov)
             points.append((regs[ok, names.index(reg)], res[ok], regs[ok] @ coef, sd))
     if not points:
         return None

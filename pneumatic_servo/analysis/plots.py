@@ -219,16 +219,20 @@ def plot_equation_residual(out_dir: Path, points: list[tuple], equation: str, re
             mids.append(np.median(x[m]))
             med.append(np.median(y[m]))
             fit.append(np.median(term[m]))
-            half.append(1.96 * np.median(sd[m]))
+            half.append(1.96 * np.median(sd[m]))  # NaN where a term is not determined
     fit, half = np.array(fit), np.array(half)
     ax.plot(mids, med, 'o-', color='tab:red', label='binned median: the shape in the data')
     own = term_unit not in (None, unit)
     tx = ax.twinx() if own else ax
     tx.plot(mids, fit, 's--', color='tab:blue',
             label='the learned correction' + (f' [{term_unit}], right axis' if own else ''))
-    if np.all(np.isfinite(half)):
-        tx.fill_between(mids, fit - half, fit + half, color='tab:blue', alpha=0.25,
-                        label=f'its 95 % band (fit uncertainty, at most \u00b1{half.max():.2g})')
+    shown = np.isfinite(half)
+    if shown.any():  # where the data do not determine the correction, no band is drawn
+        gap = '' if shown.all() else '; none where the record does not determine it'
+        tx.fill_between(mids, np.where(shown, fit - half, np.nan),
+                        np.where(shown, fit + half, np.nan), color='tab:blue', alpha=0.25,
+                        label=f'its 95 % band (fit uncertainty, at most '
+                              f'\u00b1{np.nanmax(half):.2g}{gap})')
     lo, hi = np.percentile(y, [1, 99])
     pad = 0.2 * (hi - lo) or 1.0
     ax.set_ylim(lo - pad, hi + pad)
@@ -239,7 +243,7 @@ def plot_equation_residual(out_dir: Path, points: list[tuple], equation: str, re
         tx.set_ylabel(f'correction [{term_unit}]', fontsize=9, color='tab:blue')
         # the same limits scaled: zero sits level with the residual's, so the shapes compare
         y0, y1 = ax.get_ylim()
-        reach = np.nanmax(np.abs(np.concatenate([fit - half, fit + half]))) * 1.2 or 1.0
+        reach = np.nanmax(np.abs(np.concatenate([fit, fit - half, fit + half]))) * 1.2 or 1.0
         k = reach / max(abs(y0), abs(y1))
         tx.set_ylim(k * y0, k * y1)
     ax.set_title(f'What the {equation} lacks, against {regressor}', fontsize=10)

@@ -117,8 +117,8 @@ def _params(eq: Equation) -> tuple[Param, ...]:
 _LAYOUT_NAMES = ('THETA', 'OMEGA', 'P_A', 'P_B', 'T_A', 'T_B', 'C_PE', 'C_U', 'C_PS',
                  'C_PS_REG', 'C_TE', 'C_TORQUE', 'C_XV', 'K_NULL', 'K_STROKE', 'K_GAIN',
                  'K_HALF_W', 'K_HOLE_R', 'add_flow')
-_TERM_NAMES = ('signed_sqrt', 'window', 'memory_direction', 'memory_rate', 'COMMAND_PLAY_V',
-               'direction', 'MOTION_PLAY_RAD', 'rate')
+_TERM_NAMES = ('signed_sqrt', 'window', 'hat', 'memory_direction', 'memory_rate',
+               'COMMAND_PLAY_V', 'direction', 'MOTION_PLAY_RAD', 'rate')
 
 
 def _used(text: str, names) -> list[str]:

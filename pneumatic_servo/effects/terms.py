@@ -9,7 +9,8 @@ declared twice. The blocks:
 * **variables**: angle, speed, chamber pressures, valve command, supply;
 * **functions** of them: sign (a smooth ``tanh``), absolute value, sine and
   cosine, the signed square root of a pressure drop (an orifice), and smooth
-  **windows over the stroke** (Gaussian bumps at four places);
+  **windows over the stroke** (Gaussian bumps at four places), and the knots of a **free
+  shape** over it (piecewise linear, fitted together where no closed form fits);
 * **memory**: the direction in which the valve command last moved (a play
   operator of width :data:`COMMAND_PLAY_V`: magnetic hysteresis of a
   proportional solenoid), and the direction in which the shaft last moved (a
@@ -46,6 +47,9 @@ COMMAND_MEMORY_S = 0.002
 MOTION_PLAY_RAD = 0.004
 #: windows over the stroke: Gaussian bumps centred at (k + 1/2) / N_WINDOWS of the stroke
 N_WINDOWS = 4
+#: knots of a free shape over the stroke (the shape stage, :mod:`..analysis.diagnosis.shape`):
+#: piecewise linear between equally spaced knots from one end stop to the other
+N_KNOTS = 8
 #: [s] span of the derivative a sensor's rate is taken over (the prediction's own
 #: derivative window, ``analysis.equation_residual``, is 31 ms)
 RATE_WINDOW_S = 0.021
@@ -64,6 +68,15 @@ def window(angle, stroke, k):
     centre = (k + 0.5) / N_WINDOWS * stroke
     width = stroke / (2.0 * N_WINDOWS)
     return np.exp(-0.5 * ((angle - centre) / width) ** 2)
+
+
+@njit(cache=True)
+def hat(angle, stroke, k):
+    """Basis function ``k`` of a piecewise-linear shape over the stroke [1]: 1 at knot k of
+    :data:`N_KNOTS` (equally spaced from 0 to ``stroke``), falling linearly to 0 at its
+    neighbours; beyond the end stops the end knots hold."""
+    u = np.minimum(np.maximum(angle / stroke, 0.0), 1.0) * (N_KNOTS - 1)
+    return np.maximum(1.0 - np.abs(u - k), 0.0)
 
 
 @njit(cache=True)
@@ -164,6 +177,9 @@ class Term:
     #: operator's memory is a choice made on the data, so such a term counts as two and a
     #: plain function of one variable is preferred where it fits as well
     cost: int = 1
+    #: whether the linear screen selects it; a free shape's knots are fitted together, by
+    #: the shape stage, never picked one by one
+    screened: bool = True
 
     @cached_property
     def variables(self) -> list[str]:
@@ -237,6 +253,10 @@ TERMS = (
          '(hysteresis)', 'command_direction', ('valve_input',) + _FLOWS, 2),
     Term('motion_direction', '1', 1.0, 'direction in which the shaft last moved (play)',
          'motion_direction', ('measurement_angle',), 2),
+    # a free shape over the stroke: where no closed form fits (the shape stage)
+    *(Term(f'angle_shape_{k}', '1', 1.0, f'knot {k + 1} of {N_KNOTS} of a free shape over '
+           'the stroke', f'hat(angle, stroke, {k})', ('moment_balance', 'measurement_angle'),
+           screened=False) for k in range(N_KNOTS)),
     # dynamics of a sensor: a lag of tau reads, to first order, -tau times the rate
     Term('rate_p_a', 'Pa/s', 2e6, 'rate of change of p_a (a lagging transmitter)',
          'p_a_rate', ('measurement_p_a',)),
@@ -265,7 +285,7 @@ def _array_namespace(signals: dict, core: dict, variables) -> dict:
     default), with the functions the expressions call."""
     n = len(next(iter(signals.values())))
     ns = {'np': np, 'signed_sqrt': signed_sqrt, 'window': window, 'direction': direction,
-          'rate': rate,
+          'rate': rate, 'hat': hat,
           'COMMAND_PLAY_V': COMMAND_PLAY_V, 'MOTION_PLAY_RAD': MOTION_PLAY_RAD,
           'signals': signals, 'core': core}
     ns['p_atm'] = float(core['atmospheric_pressure_pa'])

@@ -227,8 +227,9 @@ def screen_terms(base: Baseline, data: Data, n_eff: float, options: DiagnoseOpti
     model = Model(host)
     keys, steps, costs, blocks = [], [], [], []
     for eq in EQUATIONS:
-        blocks.append(list(range(len(keys), len(keys) + len(eq.terms))))
-        for term in eq.terms:
+        screened = [t for t in eq.terms if t.screened]
+        blocks.append(list(range(len(keys), len(keys) + len(screened))))
+        for term in screened:
             keys.append(_key(eq.name, term.name))
             steps.append(SCREEN_STEP * eq.size / term.typical)
             costs.append(term.cost)

@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import math
 
-from ...effects.terms import BY_NAME, N_WINDOWS
+from ...effects.corrections import BY_EQUATION
+from ...effects.terms import BY_NAME, N_KNOTS, N_WINDOWS
 from ...model.config import ModelConfig
 
 TYPICAL = {t.name: t.typical for t in BY_NAME.values()}
@@ -184,3 +185,26 @@ def interpret(equation: str, terms: dict[str, float], config: ModelConfig) -> st
     if others:
         text += ' (with ' + ', '.join(f'{r} {terms[r]:+.3g}' for r in others) + ')'
     return text
+
+
+def describe_shape(equation: str, terms: dict[str, float], config: ModelConfig,
+                   undetermined=()) -> str:
+    """One sentence on a free shape over the stroke (knot -> value, SI): its span and where it
+    is largest over the knots the record determines (``undetermined``: those it does not
+    reach), and what it is in this equation."""
+    stroke = config.core['stroke_rad']
+    knots = {int(r.rsplit('_', 1)[1]): v for r, v in terms.items() if r not in undetermined}
+    if not knots:
+        return 'a shape over the stroke that these records do not determine'
+    angle = {k: math.degrees(k / (N_KNOTS - 1) * stroke) for k in knots}
+    top = max(knots, key=lambda k: abs(knots[k]))
+    unit = BY_EQUATION[equation].equation.unit
+    what = ('a torque' if equation == 'moment_balance' else
+            'a sensor error, not missing physics: an error of the angle reading'
+            if equation == 'measurement_angle' else 'a correction')
+    seen = (f' between {min(angle.values()):.0f} and {max(angle.values()):.0f} deg'
+            if len(knots) < N_KNOTS else '')
+    return (f'{what} that follows a shape over the stroke with no closed form in the '
+            f'vocabulary: from {min(knots.values()):+.3g} to {max(knots.values()):+.3g} {unit}'
+            f'{seen}, largest ({knots[top]:+.3g}) near {angle[top]:.0f} deg ({N_KNOTS} knots, '
+            'piecewise linear)')

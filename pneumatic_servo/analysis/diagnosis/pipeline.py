@@ -15,7 +15,8 @@ The pipeline, each stage a function of the frozen :class:`~.trial.Trial`:
 prepare and split the data; fit the baseline; measure the floor; screen, fit and
 rank the named candidates; discover generic corrections where the model departs;
 fit a second named effect on top of the first where the decision needs it;
-decide; validate on other experiments; the ladder.
+decide; where no name fits, fit a free shape beside the closed form found (shape before
+formula); validate on other experiments; the ladder.
 
 How the residual is formed:
 
@@ -56,6 +57,7 @@ from .options import DiagnoseOptions
 from .refit import remainder
 from .result import Diagnosis, added_by
 from .scoring import relative_fall
+from .shape import fit_shape
 from .status import Pair, best_named, decide, needs_pair
 from .trial import Trial, floor_for
 from .validation import score_on, validate
@@ -174,6 +176,8 @@ def diagnose(experiments: list[Experiment], config: ModelConfig | None = None,
         found = timed('discovery_on_top', look_for_terms, replace(
             trial, free=trial.free + tuple(present_keys(winner.config))), on_top, progress,
             on_top, True)
+    if finding.status == 'unexplained' and found:
+        finding, found = timed('shape', shape_before_formula, trial, finding, found)
     other = Data.of(validate_on, options) if validate_on else None
     if other is not None:
         ranking, found, finding = timed('validation', validated, trial, ranking, found,
@@ -248,6 +252,17 @@ def second_on_top(trial: Trial, first: Candidate, others: tuple[Candidate, ...],
                    error_reduction=relative_fall(step.score.overall,
                                                  trial.base.score.overall))
     return Pair(first, step, rank([both], trial)[0])
+
+
+def shape_before_formula(trial: Trial, finding, found: list) -> tuple:
+    """The finding and corrections after the shape stage (:mod:`.shape`): where the best
+    correction depends on the angle alone, a free shape over the stroke is fitted beside it;
+    the reason says whether a closed form fits, and a shape that fits clearly better leads."""
+    check = fit_shape(trial, found[0])
+    if check is None:
+        return finding, found
+    finding = replace(finding, reason=f'{finding.reason}; {check.words()}')
+    return finding, ([check.shape] + found if check.no_closed_form else found)
 
 
 def validated(trial: Trial, ranking, found, finding, other: Data):
