@@ -11,7 +11,7 @@ only while their records are generated. Each class says what a right answer is:
 * ``depends``: the acceptable sets of variables of the leading term (after dropping the
   stroke and the atmosphere), e.g. ``({'angle'},)``: the correction is a function of angle;
 * ``closed_form``: the terms that write it exactly ('' ends a prefix), or () where the
-  vocabulary has none.
+  vocabulary has none: then the right answer is the statement that no closed form fits.
 
 Kinds: memory (solenoid hysteresis, coupling play, transducer lag), windows over the
 stroke (a worn part of the vane housing, a detent), products of states (pressure- and
@@ -175,7 +175,7 @@ class LoadFriction(Component):
     mechanics = _load_friction_hook
     equations = ('moment_balance',)
     depends = ({'velocity', 'p_a', 'p_b'},)
-    closed_form = ()  # |p_a - p_b| is not in the vocabulary
+    closed_form = ('sign_velocity_times_abs_pressure_difference',)
 
 
 # --- errors of every measured signal ---------------------------------------------------------

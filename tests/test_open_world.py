@@ -115,7 +115,7 @@ def test_where_no_closed_form_fits_the_shape_is_said_fitted_and_emitted(engaging
     from pneumatic_servo.effects.terms import N_KNOTS
     exps, result = engaging
     assert result.status == 'unexplained' and result.verdict == 'none', result.reason
-    assert 'no closed form in the vocabulary fits' in result.reason
+    assert 'no closed form the search found fits' in result.reason
     shape, closed = result.discovered[0], result.discovered[1]
     assert shape.equation == 'moment_balance' and set(shape.terms) == {
         f'angle_shape_{k}' for k in range(N_KNOTS)}

@@ -197,8 +197,8 @@ def plot_ladder(out_dir: Path, ladder: list[dict], name: str = 'ladder.png') -> 
 def plot_equation_residual(out_dir: Path, points: list[tuple], equation: str, regressor: str,
                            unit: str, reg_unit: str, term_unit: str | None = None,
                            name: str = 'equation_residual.png') -> str:
-    """The residual of ``equation`` [``unit``] against the leading regressor of a discovered
-    correction, with binned medians: the shape the data show, and the learned correction
+    """The residual of ``equation`` [``unit``] against the leading term of a discovered
+    correction (or the variable it is a function of), with binned medians: the shape the data show, and the learned correction
     at the same samples with its 95 % band (from the standard errors and correlation of its
     fitted coefficients).
 

@@ -1,13 +1,14 @@
 """Effects that are on no list: real physics a rig can have that the catalogue does not name.
 
-They exist to generate test data and the bundled ``bags/unlisted_effect_demo``. They are
+They exist to generate test data and the bundled ``bags/unlisted_effect_demo`` and
+``bags/hysteresis_demo`` (an effect with memory). They are
 never registered, except while their data are generated (:func:`unlisted_data`), so that
 diagnosis meets them as a user meets an unknown rig. Each acts in one equation class, with a
 realistic magnitude, and is what a generic correction of that equation describes through one
 leading regressor (:data:`EXPECTED`).
 
-Regenerate the demo bag (the same seed gives a statistically equivalent closed-loop record,
-see :mod:`.hidden`)::
+Regenerate the demo bags (the same seed gives a statistically equivalent record, see
+:mod:`.hidden`)::
 
     python -m pneumatic_servo.synth.unlisted bags
 """

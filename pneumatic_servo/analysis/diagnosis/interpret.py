@@ -204,7 +204,7 @@ def describe_shape(equation: str, terms: dict[str, float], config: ModelConfig,
             if equation == 'measurement_angle' else 'a correction')
     seen = (f' between {min(angle.values()):.0f} and {max(angle.values()):.0f} deg'
             if len(knots) < N_KNOTS else '')
-    return (f'{what} that follows a shape over the stroke with no closed form in the '
-            f'vocabulary: from {min(knots.values()):+.3g} to {max(knots.values()):+.3g} {unit}'
+    return (f'{what} that follows a free shape over the stroke: from '
+            f'{min(knots.values()):+.3g} to {max(knots.values()):+.3g} {unit}'
             f'{seen}, largest ({knots[top]:+.3g}) near {angle[top]:.0f} deg ({N_KNOTS} knots, '
             'piecewise linear)')
