@@ -39,7 +39,7 @@ from .discovery import (
     correction_host,
     terms_of,
 )
-from .interpret import describe_shape, interpret, leading
+from .interpret import describe_shape, leading
 from .scoring import information_criteria
 from .status import clearly_better
 from .trial import Trial
@@ -159,10 +159,8 @@ def _formula(trial: Trial, host, model, shape: Discovered, undetermined: set
         out.append(_confirmed(trial, host, model, shape.equation, start))
     base_ms = trial.base.score.overall ** 2
     n_eff = float(trial.data.independent)
-    best = min(out, key=lambda d: information_criteria(base_ms, d.score.overall ** 2,
-                                                       d.n_params, n_eff)[1])
-    return replace(best, interpretation=interpret(best.equation, best.terms,
-                                                  trial.base.config))
+    return min(out, key=lambda d: information_criteria(base_ms, d.score.overall ** 2,
+                                                      d.n_params, n_eff)[1])
 
 
 def _lstsq(F: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, float]:
@@ -184,6 +182,12 @@ def _linear_start(model, host, keys, equation: str, data: Data) -> list[float]:
     size = BY_EQUATION[equation].equation.size
     steps = [SCREEN_STEP * size] * len(keys)
     r0, S = _sensitivities(model, host, keys, steps, data.fit)
-    coef = np.linalg.lstsq(S, -r0, rcond=None)[0]
+    # a knot the record barely reaches has a weak column: it starts at zero, not at the huge
+    # value a least-squares solve would give it from noise
+    norms = np.linalg.norm(S, axis=0)
+    seen = norms > 1e-2 * norms.max() if norms.max() > 0 else np.zeros(len(keys), bool)
+    coef = np.zeros(len(keys))
+    if seen.any():
+        coef[seen] = np.linalg.lstsq(S[:, seen], -r0, rcond=None)[0]
     return [float(np.clip(c, host.param(k).lower, host.param(k).upper))
             for c, k in zip(coef, keys)]
