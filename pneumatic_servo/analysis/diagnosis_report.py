@@ -148,7 +148,7 @@ def _discovered(out_dir: Path, result: Diagnosis) -> list[str]:
 def _axis(reg: str, names: list[str]) -> str:
     """What to plot against: the variable term ``reg`` is a function of, where it is one
     and a term itself (a window or a knot of the shape: the angle), else ``reg``."""
-    used = [v for v in TERMS[reg].variables if v not in ('stroke', 'p_atm')]
+    used = TERMS[reg].depends_on
     return used[0] if len(used) == 1 and used[0] in names else reg
 
 

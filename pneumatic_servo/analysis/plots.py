@@ -198,9 +198,9 @@ def plot_equation_residual(out_dir: Path, points: list[tuple], equation: str, re
                            unit: str, reg_unit: str, term_unit: str | None = None,
                            name: str = 'equation_residual.png') -> str:
     """The residual of ``equation`` [``unit``] against the leading term of a discovered
-    correction (or the variable it is a function of), with binned medians: the shape the data show, and the learned correction
-    at the same samples with its 95 % band (from the standard errors and correlation of its
-    fitted coefficients).
+    correction (or the variable it is a function of), with binned medians: the shape the
+    data show, and the learned correction at the same samples with its 95 % band (from the
+    standard errors and correlation of its fitted coefficients).
 
     ``points`` holds (regressor values, residual, correction, its standard deviation) arrays
     per experiment. A correction in another unit than the residual (``term_unit``: the valve

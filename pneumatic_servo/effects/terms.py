@@ -188,6 +188,12 @@ class Term:
         return [v.name for v in VARIABLES if v.name in used]
 
     @property
+    def depends_on(self) -> list[str]:
+        """The variables it is a function of along a record: those read from a signal (the
+        stroke and the atmosphere are constants of the rig)."""
+        return [v for v in self.variables if BY_VARIABLE[v].signal]
+
+    @property
     def compiled(self) -> bool:
         """Whether a compiled hook can evaluate it (memory of the shaft cannot)."""
         return all(BY_VARIABLE[v].compiled is not None for v in self.variables)

@@ -94,13 +94,12 @@ def angle_functions(equation: str) -> list[str]:
     """The screened terms of ``equation`` that are functions of the angle alone (and the
     constant): the closed forms a shape over the stroke can propose."""
     return [t.name for t in BY_EQUATION[equation].equation.terms if t.screened
-            and set(t.variables) <= {SHAPE_VARIABLE, 'stroke'}]
+            and set(t.depends_on) <= {SHAPE_VARIABLE}]
 
 
 def depends_on_angle_only(found: Discovered) -> bool:
     """Whether the leading term of ``found`` is a function of the angle alone."""
-    used = set(TERMS[leading(found.terms)].variables) - {'stroke'}
-    return used == {SHAPE_VARIABLE}
+    return TERMS[leading(found.terms)].depends_on == [SHAPE_VARIABLE]
 
 
 def fit_shape(trial: Trial, found: Discovered) -> ShapeCheck | None:
@@ -154,8 +153,6 @@ def _formula(trial: Trial, host, model, shape: Discovered, undetermined: set
                    key=lambda cols: _lstsq(F[:, cols], target)[1])
         coef, _ = _lstsq(F[:, best], target)
         start = {_key(shape.equation, names[j]): float(c) for j, c in zip(best, coef)}
-        start = {k: float(np.clip(v, host.param(k).lower, host.param(k).upper))
-                 for k, v in start.items()}
         out.append(_confirmed(trial, host, model, shape.equation, start))
     base_ms = trial.base.score.overall ** 2
     n_eff = float(trial.data.independent)
@@ -189,5 +186,4 @@ def _linear_start(model, host, keys, equation: str, data: Data) -> list[float]:
     coef = np.zeros(len(keys))
     if seen.any():
         coef[seen] = np.linalg.lstsq(S[:, seen], -r0, rcond=None)[0]
-    return [float(np.clip(c, host.param(k).lower, host.param(k).upper))
-            for c, k in zip(coef, keys)]
+    return [float(c) for c in coef]  # confirm clips them to the bounds
