@@ -22,19 +22,42 @@ except ImportError:  # pragma: no cover - exercised where numba is absent
 ENABLED = _numba is not None and os.environ.get('PNEUMATIC_SERVO_JIT', '1') != '0'
 
 
-def njit(func=None, **options):
+def njit(func=None, *, allocates=True, **options):
     """Compile ``func`` with numba in nopython mode when available, else return it.
 
     Division follows numpy's rules (``error_model='numpy'``): a division by zero gives an
     infinity or NaN, which the integrators' finiteness checks turn into a failed
     simulation (and :mod:`pneumatic_servo.model.culprit` names the hook), instead of a
     check before every division, which costs a tenth of a simulation (measured).
+
+    ``allocates=False`` declares that ``func`` creates no array (it reads and writes the
+    arrays it is given, and may take views of them): it is then compiled without numba's
+    reference counting. Every array passed to a compiled function is otherwise counted in
+    and out with a locked (atomic) instruction, and the model's right-hand side passes
+    its five arrays through a dozen such calls: the counting was four fifths of its cost
+    (477 against 103 ns a call, measured on this 2-core machine). A function that does
+    allocate fails to compile with the flag, so a wrong declaration is an error, not a
+    leak.
     """
     def wrap(f):
         if not ENABLED:
             return f
-        return _numba.njit(fastmath=False, error_model='numpy', **options)(f)
+        flags = {} if allocates else _NO_REFCOUNT
+        return _numba.njit(fastmath=False, error_model='numpy', **flags, **options)(f)
     return wrap(func) if func is not None else wrap
+
+
+def _no_refcount_flag() -> dict:
+    """numba's option that compiles without its runtime's reference counting (``_nrt``,
+    an underscored CPU target option), or nothing on a numba without it."""
+    try:
+        from numba.core.cpu import CPUTargetOptions
+    except ImportError:  # pragma: no cover - a numba with another layout
+        return {}
+    return {'_nrt': False} if hasattr(CPUTargetOptions, '_nrt') else {}
+
+
+_NO_REFCOUNT = _no_refcount_flag() if _numba is not None else {}
 
 
 #: ``numba.prange`` when compiling (parallel loops), ``range`` otherwise

@@ -67,3 +67,33 @@ def test_an_edited_effect_gets_a_new_module(tmp_path):
     effect.write_text(source.replace('SCALE', '2.0'))  # the user edits the effect
     assert run_in_fresh_process(tmp_path, name)[1] >= 1  # compiled anew, not the old code
     assert len(list((tmp_path / 'kernels').glob('pneumatic_servo_kernel_*.py'))) == 2
+
+
+def test_the_integrator_runs_without_reference_counting():
+    """The right-hand side and the integrators are compiled without numba's reference
+    counting (``_jit.njit(allocates=False)``): its locked instructions were four fifths of
+    a right-hand side's cost (the figure is in ``benchmarks/bench_model.py``'s output)."""
+    from pneumatic_servo.model.assembly import Model
+    kernels = Model().kernels
+    for name in ('rhs', 'adaptive_interval', 'fixed_interval'):
+        assert kernels[name].targetoptions.get('_nrt') is False, name
+
+
+def test_a_function_declared_not_to_allocate_cannot_allocate():
+    """The declaration is checked: an array created inside such a function is a compile
+    error, never an unreferenced buffer."""
+    import numpy as np
+    from numba.core.errors import TypingError
+
+    @_jit.njit(allocates=False)
+    def makes_an_array(n):
+        return np.zeros(n).sum()
+
+    @_jit.njit(allocates=False)
+    def writes_through_a_view(x):
+        x[1:3][0] = 5.0
+        return x.sum()
+
+    with pytest.raises(TypingError):
+        makes_an_array(3)
+    assert writes_through_a_view(np.ones(4)) == 8.0

@@ -43,14 +43,14 @@ from .layout import (
 _BAND = 0.005  # laminar band next to pressure ratio 1 for the leak orifices
 
 
-@njit(cache=True)
+@njit(cache=True, allocates=False)
 def _leak(area, p1, t1, p2, t2, c):
     k = c[C_KAPPA]
     return orifice_flow(area, p1, t1, p2, t2, ideal_critical_ratio(k), c[C_R], k, _BAND)
 
 
 # --- valve ------------------------------------------------------------------
-@njit(cache=True)
+@njit(cache=True, allocates=False)
 def _spool_hook(t, x, s, p, P, c, dx):
     dx[s] = (c[C_XV] - x[s]) / p[0]
     c[C_XV] = x[s]
@@ -98,7 +98,7 @@ class TransportDelay(Component):
         return values['command_delay_s']
 
 
-@njit(cache=True)
+@njit(cache=True, allocates=False)
 def _null_offset_hook(t, x, s, p, P, c, dx):
     lim = P[K_HALF_W] + P[K_HOLE_R]
     c[C_XV] = min(max(c[C_XV] - P[K_GAIN] * p[0], -lim), lim)
@@ -121,7 +121,7 @@ class ValveNullOffset(Component):
     valve = _null_offset_hook
 
 
-@njit(cache=True)
+@njit(cache=True, allocates=False)
 def _null_leak_hook(t, x, s, p, P, c, dx):
     area = p[0] * math.exp(-(c[C_XV] / p[1]) ** 2)
     ps, ts, pe, te = c[C_PS], c[C_TS], c[C_PE], c[C_TE]
@@ -157,12 +157,12 @@ class ValveNullLeakage(Component):
 
 
 # --- supply -----------------------------------------------------------------
-@njit(cache=True)
+@njit(cache=True, allocates=False)
 def _supply_drop_hook(t, x, s, p, P, c, dx):
     c[C_PS] = x[s]
 
 
-@njit(cache=True)
+@njit(cache=True, allocates=False)
 def _supply_drop_finish(t, x, s, p, P, c, dx):
     ts = c[C_TS]
     m_in = _leak(p[0], c[C_PS_REG], ts, x[s], ts, c)
@@ -198,7 +198,7 @@ class SupplyPressureDrop(Component):
 
 
 # --- leakage ----------------------------------------------------------------
-@njit(cache=True)
+@njit(cache=True, allocates=False)
 def _seal_leak_hook(t, x, s, p, P, c, dx):
     if c[C_CIRCUIT] > BLOCKED:
         return
@@ -226,7 +226,7 @@ class PistonSealLeakage(Component):
     flows = _seal_leak_hook
 
 
-@njit(cache=True)
+@njit(cache=True, allocates=False)
 def _external_leak_hook(t, x, s, p, P, c, dx):
     pe, te = c[C_PE], c[C_TE]
     for ch in range(2 if c[C_CIRCUIT] <= BLOCKED else 1):
@@ -259,7 +259,7 @@ class ExternalLeakage(Component):
 
 
 # --- mechanics --------------------------------------------------------------
-@njit(cache=True)
+@njit(cache=True, allocates=False)
 def _load_torque_hook(t, x, s, p, P, c, dx):
     c[C_TORQUE] += p[0]
 
@@ -283,7 +283,7 @@ class ExternalLoadTorque(Component):
     mechanics = _load_torque_hook
 
 
-@njit(cache=True)
+@njit(cache=True, allocates=False)
 def _payload_hook(t, x, s, p, P, c, dx):
     c[C_INERTIA] += p[0]
 
@@ -306,7 +306,7 @@ class PayloadInertia(Component):
     mechanics = _payload_hook
 
 
-@njit(cache=True)
+@njit(cache=True, allocates=False)
 def _asym_friction_hook(t, x, s, p, P, c, dx):
     extra = 0.5 * P[K_DF] * p[0]
     c[C_FBRK_NEG] += extra
@@ -335,7 +335,7 @@ class AsymmetricFriction(Component):
 
 
 # --- volumes and sensing -----------------------------------------------------
-@njit(cache=True)
+@njit(cache=True, allocates=False)
 def _dead_volume_hook(t, x, s, p, P, c, dx):
     if c[C_CIRCUIT] <= BLOCKED:  # the static circuits close the valve ports: no tubing
         c[C_VA] += p[0]

@@ -27,7 +27,7 @@ OUTPUT_NAMES = ('spool_position_m', 'valve_supply_pressure_pa', 'm4_kg_s', 'm5_k
                 'supply_mass_flow_kg_s')
 
 
-@njit(cache=True)
+@njit(cache=True, allocates=False)
 def add_flow(c, chamber, mdot, t_source, t_chamber):
     """Add signed mass flow ``mdot`` [kg/s] into ``chamber`` (0 = a, 1 = b) with its enthalpy.
 

@@ -46,7 +46,7 @@ from .layout import (
 PAPER = 'Zhang et al., Energies 2019, 12, 2470'
 
 
-@njit(cache=True)
+@njit(cache=True, allocates=False)
 def _orifice_hook(t, x, s, p, P, c, dx):
     xv = c[C_XV]
     xa = abs(xv)
@@ -96,7 +96,7 @@ class OrificeFlow(Component):
     flows = _orifice_hook
 
 
-@njit(cache=True)
+@njit(cache=True, allocates=False)
 def _clearance_hook(t, x, s, p, P, c, dx):
     xv = c[C_XV]
     ds = P[K_DS]
@@ -143,7 +143,7 @@ class NoClearanceFlow(Component):
     reference = 'textbook simplification'
 
 
-@njit(cache=True)
+@njit(cache=True, allocates=False)
 def _wall_heat_hook(t, x, s, p, P, c, dx):
     te = c[C_TE]
     c[C_QA] += p[0] * p[1] * (te - x[T_A])
@@ -176,7 +176,7 @@ class Adiabatic(Component):
     reference = 'textbook simplification'
 
 
-@njit(cache=True)
+@njit(cache=True, allocates=False)
 def _isothermal_hook(t, x, s, p, P, c, dx):
     c[C_ISOTHERMAL] = 1.0
 
@@ -191,7 +191,7 @@ class Isothermal(Component):
     heat = _isothermal_hook
 
 
-@njit(cache=True)
+@njit(cache=True, allocates=False)
 def _stribeck_hook(t, x, s, p, P, c, dx):
     arm = 0.5 * P[K_DF]
     c[C_FKIN] += arm * stribeck_force(x[OMEGA], p[0], p[1], p[2], p[3])
@@ -227,7 +227,7 @@ class StribeckFriction(Component):
                               'coulomb_friction_n (F_s >= F_c); raise F_s or lower F_c')
 
 
-@njit(cache=True)
+@njit(cache=True, allocates=False)
 def _coulomb_viscous_hook(t, x, s, p, P, c, dx):
     arm = 0.5 * P[K_DF]
     c[C_FKIN] += arm * coulomb_viscous_force(x[OMEGA], p[0], p[1])

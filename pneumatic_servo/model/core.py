@@ -89,7 +89,7 @@ from ..physics.valve import spool_displacement
 HOLD_TIME_CONSTANT_S = 1e-3
 
 
-@njit(cache=True)
+@njit(cache=True, allocates=False)
 def core_begin(t, x, u, ps, P, circuit, c, dx):
     """Fill the context from time, state and inputs; zero all totals and derivatives."""
     c[:] = 0.0
@@ -117,7 +117,7 @@ def core_begin(t, x, u, ps, P, circuit, c, dx):
         c[C_VB] = P[K_VVALVE]
 
 
-@njit(cache=True)
+@njit(cache=True, allocates=False)
 def _chamber(p, temp, vol, dvol, mdot, hdot, qdot, r, cv, isothermal, t_wall):
     """(dp/dt [Pa/s], dT/dt [K/s]) of one chamber from its totals."""
     mass = p * vol / (r * temp)
@@ -129,7 +129,7 @@ def _chamber(p, temp, vol, dvol, mdot, hdot, qdot, r, cv, isothermal, t_wall):
     return dp, dtemp
 
 
-@njit(cache=True)
+@njit(cache=True, allocates=False)
 def core_end(t, x, P, circuit, c, dx):
     """Turn the totals into state derivatives: chambers, then the shaft."""
     r, cv = c[C_R], c[C_CV]

@@ -27,7 +27,7 @@ STOP_TOL = 1e-7  # [rad] how far a step may carry the shaft past an end stop
 MAX_STEPS_OFFLINE = 1_000_000  # per sample interval
 
 
-@njit(cache=True)
+@njit(cache=True, allocates=False)
 def project(x, P, circuit):
     """Keep the state physical after a step: end stops, positive p and T.
 

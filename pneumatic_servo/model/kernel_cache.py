@@ -72,9 +72,9 @@ def module_source(layout) -> str:
                 switched_on = _switched_on(layout.classes[i], p0)
                 calls += ([f'    if {switched_on}:', f'        {call}'] if switched_on
                           else [f'    {call}'])
-        lines += ['@njit(cache=True)', f'def _{stage}(t, x, P, c, dx):',
+        lines += ['@njit(cache=True, allocates=False)', f'def _{stage}(t, x, P, c, dx):',
                   *(calls or ['    pass']), '', '']
-    lines += ['@njit(cache=True)', 'def _rhs(t, x, u, ps, P, circuit, c, dx):',
+    lines += ['@njit(cache=True, allocates=False)', 'def _rhs(t, x, u, ps, P, circuit, c, dx):',
               '    core_begin(t, x, u, ps, P, circuit, c, dx)',
               *(f'    _{stage}(t, x, P, c, dx)' for stage in STAGES),
               '    core_end(t, x, P, circuit, c, dx)', '', '',

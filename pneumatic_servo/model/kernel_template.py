@@ -67,7 +67,7 @@ N_STATE = 0
 
 
 
-@njit(cache=True)
+@njit(cache=True, allocates=False)
 def fixed_interval(t, x, u, ps, P, circuit, h, n_sub, c, w):
     """Advance ``x`` in place over [t, t+h] with ``n_sub`` RK4 substeps."""
     dt = h / n_sub
@@ -92,7 +92,7 @@ def fixed_interval(t, x, u, ps, P, circuit, h, n_sub, c, w):
             return NON_FINITE
     return OK
 
-@njit(cache=True)
+@njit(cache=True, allocates=False)
 def adaptive_interval(t, x, u, ps, P, circuit, h, dt, rtol, atol, c, w, max_steps):
     """Advance ``x`` in place over [t, t+h]; returns (status, next step guess).
 
@@ -173,7 +173,7 @@ def adaptive_interval(t, x, u, ps, P, circuit, h, dt, rtol, atol, c, w, max_step
             return NON_FINITE, dt
     return OK, dt
 
-@njit(cache=True)
+@njit(cache=True, allocates=False)
 def record(t, x, u, ps, P, circuit, c, dx, X, Y, k):
     """Store state and outputs at sample k; leaves rhs(t, x) in ``dx``."""
     rhs(t, x, u, ps, P, circuit, c, dx)
