@@ -73,6 +73,11 @@ def experiment(duration_s: float):
     return t, sine_command(t), gauge_supply_pa(0.6e6)
 
 
+def load() -> str:
+    """The machine's load averages: the figures are wall-clock times on shared cores."""
+    return ' '.join(f'{v:.2f}' for v in os.getloadavg())
+
+
 def best_of(fn, repeat: int) -> tuple[float, object]:
     """Shortest wall time [s] of ``repeat`` calls, and the last result."""
     best, out = float('inf'), None
@@ -220,7 +225,8 @@ def main(argv=None) -> int:
     if not _jit.ENABLED:
         print('numba is not active (absent or PNEUMATIC_SERVO_JIT=0): figures are for the '
               'plain-Python model')
-    print(f'Machine: {machine()}\n')
+    print(f'Machine: {machine()}')
+    print(f'load average {load()} (1, 5, 15 min) on {os.cpu_count()} cores\n')
     start = time.perf_counter()
     model = Model(ModelConfig.paper())
     t, u, ps = experiment(0.05)
@@ -252,7 +258,7 @@ def main(argv=None) -> int:
                     [r + (okb(*r[1:4]),) for r in brow],
                     (str, '{:.0f}'.format, '{:.2e}'.format, '{:.2e}'.format, str, str)))
         print(f'\nTarget: >= {TARGET_BATCH:g}x real time aggregate; errors of 4 rows against '
-              'their own references.\n')
+              f'their own references. Load average after the batch: {load()}\n')
 
         short = 0.2 if args.quick else 0.5
         print(f'### numba gain ({short:g} s of the sine experiment, fresh process each)\n')

@@ -63,7 +63,6 @@ def _overlaps(term: str, where, result) -> bool:
 
 def judge(cls, result) -> dict:
     """What the diagnosis said, and whether it is right (see module doc)."""
-    from pneumatic_servo.analysis.diagnosis.interpret import leading
     from pneumatic_servo.effects.terms import BY_NAME
     # a name stated as (part of) the answer: 'explained', or 'partly_explained' with a named
     # first effect; the effect is on no list, so any name is wrong
@@ -75,7 +74,7 @@ def judge(cls, result) -> dict:
         return {**out, 'equation': None, 'leading': None, 'right_equation': False,
                 'right_dependence': False, 'right_closed_form': False}
     best = result.discovered[0]
-    lead = leading(best.terms)
+    lead = best.leading
     variables = set(BY_NAME[lead].depends_on)
     right_eq = best.equation in cls.equations
     closed = any(lead == f or (f.endswith('_') and lead.startswith(f)) for f in cls.closed_form)

@@ -19,7 +19,6 @@ import numpy as np
 from ..effects.corrections import BY_EQUATION
 from ..effects.terms import BY_NAME as TERMS
 from .diagnosis import predictions
-from .diagnosis.interpret import leading
 from .diagnosis.result import Diagnosis
 from .diagnosis.text import HEADLINES
 from .equation_residual import equation_residual
@@ -182,7 +181,7 @@ def _residual_plot(out_dir: Path, result: Diagnosis, term) -> str | None:
     """The discovered term's equation residual against its leading term's variable."""
     eq = BY_EQUATION[term.equation].equation
     names = [t.name for t in eq.terms]
-    reg = _axis(leading(term.terms), names)
+    reg = _axis(term.leading, names)
     coef = np.array([term.terms.get(r, 0.0) for r in names])
     cov = _term_covariance(term, names)
     points = []

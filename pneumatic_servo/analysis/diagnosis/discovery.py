@@ -30,14 +30,16 @@ import numpy as np
 
 from ...effects.corrections import BY_EQUATION, EQUATIONS, coefficient_name
 from ...effects.terms import BY_NAME as TERMS
+from ...effects.terms import term_values
 from ...fitting import residual_rows, stack
 from ...fitting.problem import with_values
 from ...model.assembly import Model
 from ...model.config import ModelConfig
+from ...prediction.inputs import smoothed_signals
 from .candidates import Baseline, Candidate, fit_parameters
 from .data import Data
 from .hosts import shared_host
-from .interpret import interpret
+from .interpret import interpret, leading
 from .options import DiagnoseOptions
 from .scoring import information_criteria, relative_fall, score_many
 
@@ -68,17 +70,38 @@ class Discovered(Candidate):
     interpretation: str = ''
     #: held-out error reduction the linear screen predicted
     screened_reduction: float = 0.0
+    #: regressor -> how much its term varies along the fitted records [SI]
+    #: (:func:`term_sizes`)
+    sizes: dict = field(default_factory=dict)
 
     @property
     def terms(self) -> dict[str, float]:
         return terms_of(self.params)
+
+    @property
+    def leading(self) -> str:
+        """The term the correction mostly depends on (:func:`.interpret.leading`)."""
+        return leading(self.terms, self.sizes)
 
     def to_json(self) -> dict:
         stderr = terms_of(self.stderr)
         return {**super().to_json(), 'equation': self.equation, 'terms': self.terms,
                 'stderr': stderr, 'error_reduction': self.error_reduction,
                 'interpretation': self.interpretation,
-                'screened_reduction': self.screened_reduction}
+                'screened_reduction': self.screened_reduction, 'term_sizes': self.sizes}
+
+
+def term_sizes(terms: dict[str, float], data: Data, core: dict) -> dict[str, float]:
+    """Regressor -> standard deviation of its term (coefficient times regressor) along the
+    fitted time series [the equation's unit]: how much of the correction's variation it
+    carries there. The constant carries none."""
+    names = list(terms)
+    cols = [term_values([TERMS[r] for r in names], {**smoothed_signals(e), 't_s': e.t}, core)
+            for e in data.experiments if not e.static]
+    if not cols:
+        return {r: 0.0 for r in names}
+    values = np.concatenate(cols) * np.array([terms[r] for r in names])
+    return {r: float(np.nanstd(values[:, j])) for j, r in enumerate(names)}
 
 
 def correction_host(config: ModelConfig) -> ModelConfig:
@@ -275,6 +298,7 @@ def confirm(screened: ScreenedEquation, host: ModelConfig, model: Model, base: B
     clean = clean.with_effect(name, {k.partition('.')[2]: v for k, v in values.items()})
     problems = [f'{k} stopped at a bound of its fit range' for k in result.at_bound
                 if k in values]
+    sizes = term_sizes(terms_of(values), data, base.config.core)
     found = Discovered(
         effect=name, params=values, stderr={k: result.stderr[k] for k in keys}, fixed={},
         base_params=base_values, score=score,
@@ -286,8 +310,8 @@ def confirm(screened: ScreenedEquation, host: ModelConfig, model: Model, base: B
         converged=result.converged, seconds=time.perf_counter() - t0,
         acts_on=BY_EQUATION[screened.equation].acts_on,
         summary=BY_EQUATION[screened.equation].equation.description,
-        equation=screened.equation, screened_reduction=screened.reduction,
-        interpretation=interpret(screened.equation, terms_of(values), base.config))
+        equation=screened.equation, screened_reduction=screened.reduction, sizes=sizes,
+        interpretation=interpret(screened.equation, terms_of(values), base.config, sizes))
     return found
 
 

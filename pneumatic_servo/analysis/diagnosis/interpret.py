@@ -19,8 +19,17 @@ def _part(reg: str, core: dict) -> str:
     return f'between about {k * stroke / N_WINDOWS:.0f} and {(k + 1) * stroke / N_WINDOWS:.0f} deg'
 
 
-def leading(terms: dict[str, float]) -> str:
-    """The regressor whose term is largest at its typical size."""
+def leading(terms: dict[str, float], sizes: dict[str, float] | None = None) -> str:
+    """The regressor a correction mostly depends on.
+
+    With ``sizes`` (how much each term varies along the record, ``discovery.term_sizes``):
+    the term that varies most. A constant level depends on nothing, so the constant leads
+    only where nothing else varies: a gravity arm seen over a narrow range is a level plus
+    a slope, and it depends on the angle. Without sizes (a correction read back without its
+    record): the term largest at its typical size."""
+    varying = [r for r in terms if (sizes or {}).get(r, 0.0) > 0.0]
+    if varying:
+        return max(varying, key=lambda r: sizes[r])
     return max(terms, key=lambda r: abs(terms[r]) * TYPICAL[r])
 
 
@@ -164,13 +173,15 @@ def _measurement(signal: str, reg: str, c: float, terms: dict, core: dict) -> st
             f'{DESCRIPTION[reg]}: crosstalk or a wiring fault')
 
 
-def interpret(equation: str, terms: dict[str, float], config: ModelConfig) -> str:
+def interpret(equation: str, terms: dict[str, float], config: ModelConfig,
+              sizes: dict[str, float] | None = None) -> str:
     """One sentence on a correction of ``equation`` with ``terms`` (regressor -> coefficient,
-    SI): what it is, after its leading term, and the physics that usually causes it; a sensor
-    error is called one, never a change of the physics."""
+    SI): what it is, after its leading term (:func:`leading`, with the terms' ``sizes`` along
+    the record where known), and the physics that usually causes it; a sensor error is
+    called one, never a change of the physics."""
     if not terms:
         return 'no term'
-    reg = leading(terms)
+    reg = leading(terms, sizes)
     c, core = terms[reg], config.core
     if equation == 'moment_balance':
         text = _moment(reg, c, terms, core)

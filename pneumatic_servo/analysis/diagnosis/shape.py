@@ -39,7 +39,7 @@ from .discovery import (
     correction_host,
     terms_of,
 )
-from .interpret import describe_shape, leading
+from .interpret import describe_shape
 from .scoring import information_criteria
 from .status import clearly_better
 from .trial import Trial
@@ -99,7 +99,7 @@ def angle_functions(equation: str) -> list[str]:
 
 def depends_on_angle_only(found: Discovered) -> bool:
     """Whether the leading term of ``found`` is a function of the angle alone."""
-    return TERMS[leading(found.terms)].depends_on == [SHAPE_VARIABLE]
+    return TERMS[found.leading].depends_on == [SHAPE_VARIABLE]
 
 
 def fit_shape(trial: Trial, found: Discovered) -> ShapeCheck | None:
