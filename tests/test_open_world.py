@@ -112,14 +112,20 @@ def test_where_no_closed_form_fits_the_shape_is_said_fitted_and_emitted(engaging
     record reaches, and emitted as an effect it halves the error."""
     from pneumatic_servo.analysis.compare import compare
     from pneumatic_servo.analysis.diagnosis.emit import effect_source
+    from pneumatic_servo.analysis.diagnosis.shape import angle_functions
     from pneumatic_servo.effects.terms import N_KNOTS
     exps, result = engaging
     assert result.status == 'unexplained' and result.verdict == 'none', result.reason
     assert 'no closed form the search found fits' in result.reason
-    shape, closed = result.discovered[0], result.discovered[1]
+    shape, closest, closed = result.discovered[:3]
     assert shape.equation == 'moment_balance' and set(shape.terms) == {
         f'angle_shape_{k}' for k in range(N_KNOTS)}
     assert shape.score.overall < closed.score.overall
+    # the closest formula follows the shape, and the reason says how much it explains
+    assert set(closest.terms) <= set(angle_functions('moment_balance')), closest.terms
+    assert shape.score.overall < closest.score.overall
+    assert (f'the closest closed form, fitted to that shape, cuts it by '
+            f'{100 * closest.error_reduction:.0f} %') in result.reason
     assert result.ladder[-1]['overall'] <= 0.5 * result.ladder[0]['overall']
     # the knots the record determines follow -k max(angle - 1.4, 0)
     stroke = result.baseline.config.core['stroke_rad']

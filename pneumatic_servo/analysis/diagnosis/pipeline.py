@@ -258,13 +258,13 @@ def shape_before_formula(trial: Trial, finding, found: list) -> tuple:
     """The finding and corrections after the shape stage (:mod:`.shape`): where the best
     correction depends on the angle alone, a free shape over the stroke is fitted beside it;
     the reason says whether the closed form found stands, a formula fitted to the shape
-    replaces it, or no closed form fits; what the stage answers leads."""
+    replaces it, or no closed form fits (the closest one follows the shape); what the stage
+    answers leads."""
     check = fit_shape(trial, found[0])
     if check is None:
         return finding, found
     finding = replace(finding, reason=f'{finding.reason}; {check.words()}')
-    answer = check.answer
-    return finding, (found if answer is found[0] else [answer] + found)
+    return finding, check.corrections + found
 
 
 def validated(trial: Trial, ranking, found, finding, other: Data):

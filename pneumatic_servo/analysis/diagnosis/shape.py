@@ -80,9 +80,25 @@ class ShapeCheck:
                     f'{theirs}), and a closed form fitted to that shape about as much '
                     f'({100 * self.formula.error_reduction:.0f} %): '
                     f'{self.formula.interpretation}')
-        return (f'no closed form the search found fits: a free shape over the stroke cuts the '
+        text = (f'no closed form the search found fits: a free shape over the stroke cuts the '
                 f'held-out error by {ours} against {theirs}, clearly more '
                 f'({self.shape.interpretation})')
+        if self.formula is None:
+            return text
+        # the closest formula still says what most of the shape is (a gravity arm's cosine,
+        # where something else that follows the angle rides on it)
+        return (f'{text}; the closest closed form, fitted to that shape, cuts it by '
+                f'{100 * self.formula.error_reduction:.0f} %: {self.formula.interpretation}')
+
+    @property
+    def corrections(self) -> list[Discovered]:
+        """What the stage adds before the corrections found, best first: the answer, and
+        the closest formula after a shape that beats it."""
+        if self.answer is self.closed_form:
+            return []
+        if self.answer is self.shape and self.formula is not None:
+            return [self.shape, self.formula]
+        return [self.answer]
 
 
 def shape_terms(equation: str) -> list[str]:
