@@ -226,6 +226,18 @@ def test_cli_diagnose_apply_and_again(tmp_path):
     assert json.loads((tmp_path / 'again.json').read_text())['verdict'] == 'none'
 
 
+def test_a_record_with_gas_temperatures_is_diagnosed(tmp_path):
+    """Chamber temperatures are compared channels like the pressures (in K, not below a
+    0.5 K floor): a blocked-piston record that holds them is diagnosed and its floor
+    counts them, where it used to end in an internal error."""
+    bag = Path(__file__).resolve().parents[1] / 'bags' / 'charge_discharge'
+    proc = _cli('diagnose', bag, '--json', tmp_path / 'd.json', '--quiet', cwd=tmp_path)
+    assert proc.returncode == 0, proc.stderr
+    data = json.loads((tmp_path / 'd.json').read_text())
+    assert {'t_a', 't_b'} <= set(data['floor']['rms'])
+    assert data['status'] in ('consistent', 'explained', 'partly_explained', 'unexplained')
+
+
 @pytest.mark.parametrize('args, words', [
     (['diagnose', 'no_such_bag'], 'no_such_bag'),
     (['diagnose', DATA / 'none' / 'sine', '--effects', 'no_such_effect'], 'no_such_effect'),
