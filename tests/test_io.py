@@ -62,6 +62,16 @@ def test_roundtrip(tmp_path, storage):
     np.testing.assert_allclose(back['setpoint_rad'], 1.5)
 
 
+def test_a_blocked_record_keeps_where_the_pistons_were_held(tmp_path):
+    """The held angle of a blocked record sets its chamber volumes: written without being
+    asked for, it reads back, and a reader never takes the pistons to be at 0."""
+    exp = servo_experiment(n=200)
+    sig = {k: v for k, v in exp.signals.items() if not k.startswith(('angle', 'velocity'))}
+    blocked = Experiment(exp.t, sig, 'blocked', 'held', False, {'blocked_angle_rad': 1.6})
+    back = read_experiment(write_experiment(blocked, tmp_path / 'b'))
+    assert back.circuit == 'blocked' and back.metadata['blocked_angle_rad'] == 1.6
+
+
 def test_write_refuses_existing_and_static(tmp_path):
     exp = servo_experiment(10)
     write_experiment_bag(exp, tmp_path / 'b')

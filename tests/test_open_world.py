@@ -11,13 +11,14 @@ import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from pneumatic_servo import effects as registry
 from pneumatic_servo.analysis.diagnosis import DiagnoseOptions, diagnose
 from pneumatic_servo.analysis.diagnosis.interpret import leading
 from pneumatic_servo.effects import Component, Param
-from pneumatic_servo.effects.layout import C_TORQUE, THETA
+from pneumatic_servo.effects.layout import C_QA, C_TORQUE, T_A, THETA
 from pneumatic_servo.synth.hidden import make_hidden_set
 from pneumatic_servo.synth.unlisted import EXPECTED, unlisted_data
 
@@ -264,3 +265,91 @@ def test_memory_walkthrough_unexplained_shape_closed_form_emitted_error_falls(tm
     for ch in ('angle', 'p_a', 'p_b'):
         assert runs['after'][ch]['rmse'] < runs['before'][ch]['rmse'], ch
     assert runs['after']['angle']['rmse'] < 0.5 * runs['before']['angle']['rmse']
+
+
+# ----------------------------------------------- the energy balances and temperature readings
+def _cold_plate_hook(t, x, s, p, P, c, dx):
+    c[C_QA] += p[0] * (p[1] - x[T_A])
+
+
+class ColdPlate(Component):
+    """Chamber a is bolted to a cooled plate: heat leaves it through the plate."""
+
+    name = 'test_cold_plate'
+    params = (Param('conductance_w_per_k', 'W/K', 0.3, 0.0, 100.0, 'plate conductance'),
+              Param('plate_temperature_k', 'K', 278.15, 200.0, 400.0, 'plate temperature'))
+    heat = _cold_plate_hook
+
+
+def _thermocouple_lag(values, signals, core):
+    from scipy.signal import lfilter
+    temp = np.asarray(signals['t_a_k'], dtype=float)
+    a = np.exp(-1e-3 / values['lag_s'])
+    return {'t_a_k': lfilter([1 - a], [1, -a], temp, zi=[a * temp[0]])[0] - temp}
+
+
+class SlowThermocouple(Component):
+    """Chamber a's thermocouple reads the gas temperature through a 60 ms lag."""
+
+    name = 'test_slow_thermocouple'
+    params = (Param('lag_s', 's', 0.06, 1e-4, 10.0, 'time constant'),)
+    sensor_error = staticmethod(_thermocouple_lag)
+
+
+def _blocked_record(cls, seed=3):
+    """4 s at 1 kHz with the pistons held at mid-stroke and the valve stepped every 0.4 s,
+    pressures and gas temperatures read with noise, ``cls`` registered only meanwhile."""
+    from pneumatic_servo.experiment import Experiment
+    from pneumatic_servo.model import Model, ModelConfig
+    from pneumatic_servo.model.circuits import gauge_supply_pa
+    from pneumatic_servo.synth.runs import blocked_run
+    registry.register(cls)
+    try:
+        cfg = ModelConfig.paper().with_effect(cls.name)
+        t = np.arange(4001) * 1e-3
+        levels = np.array([5.0, 6.0, 4.3, 5.7, 4.6, 6.2, 4.0, 5.4, 5.0, 5.9])
+        u = levels[np.minimum((t / 0.4).astype(int), len(levels) - 1)]
+        angle, supply = 0.5 * cfg.core['stroke_rad'], gauge_supply_pa(0.6e6)
+        res = blocked_run(Model(cfg), cfg, t, u, supply, angle)
+        true = {k: np.asarray(res[k]) for k in ('p_a_pa', 'p_b_pa', 't_a_k', 't_b_k')}
+        if cls.sensor_error is not None:
+            error = cls.sensor_error(cls.defaults(), true, cfg.core)
+            true = {k: v + error.get(k, 0.0) for k, v in true.items()}
+    finally:
+        registry._REGISTRY.pop(cls.name, None)
+    rng = np.random.default_rng(seed)
+    noise = {'p_a_pa': 300.0, 'p_b_pa': 300.0, 't_a_k': 0.05, 't_b_k': 0.05}
+    signals = {k: v + rng.normal(0.0, noise[k], len(v)) for k, v in true.items()}
+    signals.update(command_v=u, supply_pa=np.full(len(t), supply))
+    return Experiment(t, signals, 'blocked', cls.name, False, {'blocked_angle_rad': angle})
+
+
+def test_a_lagging_temperature_sensor_is_found_in_its_reading():
+    """Where a record holds the gas temperatures, each has its measurement equation: a
+    thermocouple's lag is read as one, with its time constant."""
+    result = diagnose([_blocked_record(SlowThermocouple)])
+    assert result.status == 'unexplained' and result.verdict == 'none', result.reason
+    best = result.discovered[0]
+    assert best.equation == 'measurement_t_a' and best.leading == 'rate_t_a', best.terms
+    assert -best.terms['rate_t_a'] == pytest.approx(0.06, rel=0.2)
+    assert 'temperature reads' in best.interpretation and 'ms late' in best.interpretation
+
+
+def test_a_heat_flow_is_found_in_the_energy_balance_and_only_where_temperatures_are_read():
+    """A heat sink on chamber a moves its pressure as a leak would; with the gas
+    temperature read, the energy balance tells them apart and takes it. A record without
+    temperatures is never offered the energy balances (``Equation.needs``)."""
+    from pneumatic_servo.analysis.diagnosis.data import Data
+    from pneumatic_servo.analysis.diagnosis.discovery import seen_equations
+    exp = _blocked_record(ColdPlate)
+    result = diagnose([exp])
+    assert result.verdict == 'none', result.reason
+    assert result.discovered[0].equation == 'energy_balance_a', result.reason
+    assert 'heat flow' in result.discovered[0].interpretation
+    names = [eq.name for eq in seen_equations(Data.of([exp], DiagnoseOptions()))]
+    assert {'energy_balance_a', 'energy_balance_b'} <= set(names)
+    blind = exp.__class__(exp.t, {k: v for k, v in exp.signals.items()
+                                  if k not in ('t_a_k', 't_b_k')}, 'blocked', exp.name,
+                          False, exp.metadata)
+    names = [eq.name for eq in seen_equations(Data.of([blind], DiagnoseOptions()))]
+    assert not {'energy_balance_a', 'energy_balance_b'} & set(names)

@@ -136,9 +136,11 @@ class Variable:
     name: str
     compiled: str | None
     array: str
-    #: the signal it comes from; where a record lacks it, the atmosphere (a pressure) or 0
+    #: the signal it comes from; where a record lacks it, the atmosphere (a pressure), the
+    #: room (a temperature) or 0
     signal: str = ''
     atmospheric: bool = False
+    room: bool = False
 
 
 VARIABLES = (
@@ -157,6 +159,12 @@ VARIABLES = (
              'angle_rad'),
     Variable('p_a_rate', None, "rate(signals['p_a_pa'], signals.get('t_s'))", 'p_a_pa'),
     Variable('p_b_rate', None, "rate(signals['p_b_pa'], signals.get('t_s'))", 'p_b_pa'),
+    # the gas temperatures, where a record holds them (the energy balances)
+    Variable('t_a', 'x[T_A]', "signals['t_a_k']", 't_a_k', room=True),
+    Variable('t_b', 'x[T_B]', "signals['t_b_k']", 't_b_k', room=True),
+    Variable('t_wall', 'c[C_TE]', "core['room_temperature_k']"),
+    Variable('t_a_rate', None, "rate(signals['t_a_k'], signals.get('t_s'))", 't_a_k'),
+    Variable('t_b_rate', None, "rate(signals['t_b_k'], signals.get('t_s'))", 't_b_k'),
 )
 BY_VARIABLE = {v.name: v for v in VARIABLES}
 
@@ -268,15 +276,25 @@ TERMS = (
          'p_a_rate', ('measurement_p_a',)),
     Term('rate_p_b', 'Pa/s', 2e6, 'rate of change of p_b (a lagging transmitter)',
          'p_b_rate', ('measurement_p_b',)),
+    # the energy balances and temperature readings (records that hold the temperatures)
+    *(Term(f'wall_minus_t_{k}', 'K', 20.0, f'wall temperature minus the chamber {k} gas '
+           'temperature (heat through its wall)', f'(t_wall - t_{k})', (f'energy_balance_{k}',))
+      for k in 'ab'),
+    *(Term(f't_{k}', 'K', 300.0, f'chamber {k} gas temperature', f't_{k}',
+           (f'measurement_t_{k}',)) for k in 'ab'),
+    *(Term(f'rate_t_{k}', 'K/s', 50.0, f'rate of change of T_{k} (a lagging temperature '
+           'sensor)', f't_{k}_rate', (f'measurement_t_{k}',)) for k in 'ab'),
 )
 BY_NAME = {t.name: t for t in TERMS}
 
 
-def offered(equation: str, sensor: bool) -> tuple[Term, ...]:
+def offered(equation: str, sensor: bool, generic: bool = True) -> tuple[Term, ...]:
     """The terms offered in ``equation`` (a sensor equation is evaluated over arrays, so a
-    term without a compiled form is offered there only)."""
+    term without a compiled form is offered there only); without ``generic``, of the terms
+    offered everywhere only the constant."""
     return tuple(t for t in TERMS
-                 if (t.equations is None or equation in t.equations)
+                 if (equation in (t.equations or ()) or t.equations is None
+                     and (generic or not t.variables))
                  and (sensor or t.compiled))
 
 
@@ -297,7 +315,8 @@ def _array_namespace(signals: dict, core: dict, variables) -> dict:
     ns['p_atm'] = float(core['atmospheric_pressure_pa'])
     for v in variables:
         if v.signal and v.signal not in signals:
-            ns[v.name] = np.full(n, ns['p_atm'] if v.atmospheric else 0.0)
+            ns[v.name] = np.full(n, ns['p_atm'] if v.atmospheric else
+                                 float(core['room_temperature_k']) if v.room else 0.0)
         elif v.name != 'p_atm':
             ns[v.name] = np.asarray(eval(v.array, ns), dtype=float)  # noqa: S307 - our text
     return ns

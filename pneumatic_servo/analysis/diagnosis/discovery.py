@@ -243,13 +243,22 @@ def _path(first, lead, S_fit, S_val, block, costs, base_val, n_eff, max_terms):
     return best
 
 
+def seen_equations(data: Data) -> list:
+    """The equations the records can tell apart: those whose needed signals (a chamber's
+    temperature for its energy balance) every time series of ``data`` holds."""
+    series = [e for e in data.experiments if not e.static]
+    return [eq for eq in EQUATIONS if not eq.needs or series and all(
+        signal in e.signals for e in series for signal in eq.needs)]
+
+
 def screen_terms(base: Baseline, data: Data, n_eff: float, options: DiagnoseOptions
                  ) -> tuple[list[ScreenedEquation], ModelConfig, Model]:
     """The screen of every equation, best first, with the host it ran on."""
     host = correction_host(base.config)
     model = Model(host)
     keys, steps, costs, blocks = [], [], [], []
-    for eq in EQUATIONS:
+    equations = seen_equations(data)
+    for eq in equations:
         screened = [t for t in eq.terms if t.screened]
         blocks.append(list(range(len(keys), len(keys) + len(screened))))
         for term in screened:
@@ -261,7 +270,7 @@ def screen_terms(base: Baseline, data: Data, n_eff: float, options: DiagnoseOpti
     lead = _leading_terms(model, host, keys, r_fit, S_fit, data, blocks, LEADING_PER_EQUATION)
     base_val = float(r_val @ r_val)
     out = []
-    for eq, block in zip(EQUATIONS, blocks):
+    for eq, block in zip(equations, blocks):
         def select(columns):
             """The selection over ``columns`` of this equation, or None if it has none."""
             cols, coef, rss, bic = _forward_selection(lead, S_fit, S_val, columns, costs,

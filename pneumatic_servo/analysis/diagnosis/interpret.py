@@ -134,6 +134,33 @@ def _valve(reg: str, c: float, terms: dict, core: dict) -> str:
     return f'an extra valve command that follows the {DESCRIPTION[reg]}'
 
 
+def _heat(chamber: str, reg: str, c: float) -> str:
+    into = 'into' if c > 0 else 'out of'
+    if reg == 'constant':
+        return (f'a steady heat flow of {abs(c):.3g} W {into} chamber {chamber}: a heat source '
+                'or sink on its wall (a warm valve or motor, a cold mounting plate)')
+    if reg == f'wall_minus_t_{chamber}':
+        return (f'more heat through the wall of chamber {chamber} than the model has, '
+                f'{c:+.3g} W/K: its heat transfer coefficient or wall area is larger'
+                if c > 0 else f'less heat through the wall of chamber {chamber} than the '
+                f'model has, {c:+.3g} W/K: its heat transfer coefficient or wall area is '
+                'smaller')
+    return f'a heat flow {into} chamber {chamber} that follows the {DESCRIPTION[reg]}'
+
+
+def _temperature(chamber: str, reg: str, c: float) -> str:
+    if reg == 'constant':
+        return f'the chamber {chamber} temperature reads {c:+.3g} K off: a sensor offset'
+    if reg == f't_{chamber}':
+        return f'the chamber {chamber} temperature sensor\'s gain is off by {100 * c:+.2f} %'
+    if reg == f'rate_t_{chamber}':
+        return (f'the chamber {chamber} temperature reads {1e3 * abs(c):.3g} ms '
+                + ('late: the sensor\'s own time constant (a thermocouple in its sheath)'
+                   if c < 0 else 'early: a timing error of the sensor'))
+    return f'an error of the chamber {chamber} temperature reading that follows the ' \
+        f'{DESCRIPTION[reg]}'
+
+
 def _measurement(signal: str, reg: str, c: float, terms: dict, core: dict) -> str:
     if signal == 'angle':
         if reg == 'constant':
@@ -160,6 +187,8 @@ def _measurement(signal: str, reg: str, c: float, terms: dict, core: dict) -> st
             return f'the supply transmitter\'s gain is off by {100 * c:+.2f} %'
         return (f'an error of the supply reading that follows the {DESCRIPTION[reg]}')
     chamber = signal[-1]
+    if signal.startswith('t_'):
+        return _temperature(chamber, reg, c)
     if reg == 'constant':
         return (f'chamber {chamber} pressure reads {c / 1e3:+.3g} kPa off: a transmitter '
                 'offset (a gauge reading would be about -101 kPa)')
@@ -189,6 +218,8 @@ def interpret(equation: str, terms: dict[str, float], config: ModelConfig,
         text = _mass(equation[-1], reg, c, terms, core)
     elif equation == 'valve_input':
         text = _valve(reg, c, terms, core)
+    elif equation.startswith('energy_balance_'):
+        text = _heat(equation[-1], reg, c)
     else:
         text = 'a sensor error, not missing physics: ' + _measurement(
             equation.removeprefix('measurement_'), reg, c, terms, core)

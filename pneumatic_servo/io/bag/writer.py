@@ -68,7 +68,8 @@ def write_experiment_bag(exp: Experiment, path, storage: str = 'sqlite3',
     metadata : dict, optional
         Extra ``custom_data`` entries; keys without a dot get the
         ``pneumatic_servo.`` prefix, non-string values are stored as JSON.
-        ``pneumatic_servo.circuit`` is always written from ``exp.circuit``.
+        ``pneumatic_servo.circuit`` is always written from ``exp.circuit``, and a blocked
+        record's ``blocked_angle_rad`` from ``exp.metadata`` unless given here.
     joint : str
         Joint name in ``joint_states``.
     start_time_ns : int, optional [ns since epoch]
@@ -98,7 +99,11 @@ def write_experiment_bag(exp: Experiment, path, storage: str = 'sqlite3',
                               'shift the start time or shorten the record')
     topics = _messages(exp, joint, start, int(round(latency_s * 1e9)))
     custom = {CIRCUIT_KEY: exp.circuit}
-    for key, value in (metadata or {}).items():
+    # where the pistons were held is part of a blocked record: a reader needs it to know
+    # the chamber volumes, so it is never lost on the way to the bag
+    held = {'blocked_angle_rad': exp.metadata['blocked_angle_rad']} \
+        if exp.circuit == 'blocked' and 'blocked_angle_rad' in exp.metadata else {}
+    for key, value in {**held, **(metadata or {})}.items():
         custom[key if '.' in key else KEY_PREFIX + key] = custom_value(value)
     custom[CIRCUIT_KEY] = exp.circuit
     try:
