@@ -57,7 +57,13 @@ def test_every_equation_offers_the_plain_terms_and_sensors_the_shafts_memory():
     plain = [t.name for t in TERMS if t.equations is None]
     for eq in EQUATIONS:
         names = [t.name for t in eq.terms]
-        assert names[:len(plain)] == plain, eq.name
+        if eq.generic:
+            assert names[:len(plain)] == plain, eq.name
+        else:  # a temperature reading: the constant and its own terms only
+            assert names[0] == 'constant' and not set(plain[1:]) & set(names), eq.name
+            assert names[1:] == [t.name for t in TERMS if eq.name in (t.equations or ())]
+    assert [eq.name for eq in EQUATIONS if not eq.generic] == ['measurement_t_a',
+                                                               'measurement_t_b']
     assert 'motion_direction' in [t.name for t in BY_EQUATION['measurement_angle'].equation.terms]
     assert 'motion_direction' not in [t.name for t in
                                       BY_EQUATION['moment_balance'].equation.terms]
