@@ -337,15 +337,21 @@ def test_a_lagging_temperature_sensor_is_found_in_its_reading():
 
 def test_a_heat_flow_is_found_in_the_energy_balance_and_only_where_temperatures_are_read():
     """A heat sink on chamber a moves its pressure as a leak would; with the gas
-    temperature read, the energy balance tells them apart and takes it. A record without
-    temperatures is never offered the energy balances (``Equation.needs``)."""
+    temperature read, the energy balance tells them apart and takes it, with the plate's
+    law: heat through the wall, 0.3 W/K to a plate 15 K below the room. That law is a level
+    and a slope that fit only together, reached from another start than the term that
+    fits best alone (``ScreenedEquation.other``). A record without temperatures is never
+    offered the energy balances (``Equation.needs``)."""
     from pneumatic_servo.analysis.diagnosis.data import Data
     from pneumatic_servo.analysis.diagnosis.discovery import seen_equations
     exp = _blocked_record(ColdPlate)
     result = diagnose([exp])
     assert result.verdict == 'none', result.reason
-    assert result.discovered[0].equation == 'energy_balance_a', result.reason
-    assert 'heat flow' in result.discovered[0].interpretation
+    best = result.discovered[0]
+    assert best.equation == 'energy_balance_a', result.reason
+    assert best.leading == 'wall_minus_t_a', best.terms
+    assert best.terms['wall_minus_t_a'] == pytest.approx(0.3, rel=0.25)
+    assert best.error_reduction > 0.8 and 'through the wall' in best.interpretation
     names = [eq.name for eq in seen_equations(Data.of([exp], DiagnoseOptions()))]
     assert {'energy_balance_a', 'energy_balance_b'} <= set(names)
     blind = exp.__class__(exp.t, {k: v for k, v in exp.signals.items()

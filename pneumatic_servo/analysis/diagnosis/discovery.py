@@ -132,6 +132,11 @@ class ScreenedEquation:
     #: product or a memory: the linear screen's small steps can favour those, so both are
     #: fitted through the simulator and the better kept
     plain: ScreenedEquation | None = None
+    #: the best set reached from another leading term, where it differs: two terms that fit
+    #: only together (a level and a slope that cancel over the record) are not reached from
+    #: the term that fits best alone; fitted through the simulator, it replaces the set
+    #: above only where it explains clearly more (a marginal gain picks spurious sets)
+    other: ScreenedEquation | None = None
 
 
 def _residuals(model, host, keys, values, parts) -> list[np.ndarray]:
@@ -216,6 +221,15 @@ def _forward_selection(lead, S_fit, S_val, block, costs, base_val: float, n_eff:
     return _path(first, lead, S_fit, S_val, block, costs, base_val, n_eff, max_terms)
 
 
+def _from_other_starts(lead, S_fit, S_val, block, costs, base_val: float, n_eff: float,
+                       max_terms: int, first: int):
+    """The best forward path (by held-out BIC) from a leading term of ``block`` other than
+    ``first``, or None."""
+    paths = [_path(j, lead, S_fit, S_val, block, costs, base_val, n_eff, max_terms)
+             for j in sorted(lead) if j in block and j != first]
+    return min(paths, key=lambda path: path[3]) if paths else None
+
+
 def _path(first, lead, S_fit, S_val, block, costs, base_val, n_eff, max_terms):
     """Forward selection from the refined term ``first`` (see :func:`_forward_selection`)."""
     def bic(rss, cols):
@@ -271,19 +285,27 @@ def screen_terms(base: Baseline, data: Data, n_eff: float, options: DiagnoseOpti
     base_val = float(r_val @ r_val)
     out = []
     for eq, block in zip(equations, blocks):
-        def select(columns):
-            """The selection over ``columns`` of this equation, or None if it has none."""
-            cols, coef, rss, bic = _forward_selection(lead, S_fit, S_val, columns, costs,
-                                                      base_val, n_eff, options.max_terms)
+        def screened(path):
+            """The path (columns, coefficients, held-out RSS, BIC) as a screened equation."""
+            cols, coef, rss, bic = path
             chosen = [keys[j] for j in cols]
             return ScreenedEquation(
                 eq.name, chosen, dict(zip(chosen, map(float, coef))),
                 relative_fall(math.sqrt(rss), math.sqrt(base_val)), bic) if cols else None
+
+        def select(columns):
+            """The selection over ``columns`` of this equation, or None if it has none."""
+            return screened(_forward_selection(lead, S_fit, S_val, columns, costs, base_val,
+                                               n_eff, options.max_terms))
         best = select(block)
         if best is None:
             continue
         if any(TERMS[t].cost > 1 for t in terms_of(best.start)):
             best = replace(best, plain=select([j for j in block if costs[j] == 1]))
+        other = _from_other_starts(lead, S_fit, S_val, block, costs, base_val, n_eff,
+                                   options.max_terms, keys.index(best.keys[0]))
+        if other is not None and {keys[j] for j in other[0]} != set(best.keys):
+            best = replace(best, other=screened(other))
         out.append(best)
     return sorted(out, key=lambda s: s.bic), host, model
 
@@ -325,14 +347,20 @@ def confirm(screened: ScreenedEquation, host: ModelConfig, model: Model, base: B
 
 
 def discover(base: Baseline, data: Data, free: list[str], n_eff: float,
-             options: DiagnoseOptions) -> list[Discovered]:
+             options: DiagnoseOptions, clearly_better=None) -> list[Discovered]:
     """Generic corrections of the baseline, screened and the best ``discovery_fits``
-    confirmed; unranked (the ranking fills in the information criteria)."""
+    confirmed; unranked (the ranking fills in the information criteria).
+    ``clearly_better(d, c)``: whether correction d explains clearly more than c (the
+    candidate-level test), for the set reached from another start."""
     screened, host, model = screen_terms(base, data, n_eff, options)
     out = []
     for s in screened[:options.discovery_fits]:
         found = [confirm(c, host, model, base, data, free, options)
                  for c in (s, s.plain) if c is not None]
-        out.append(min(found, key=lambda d: information_criteria(
-            base.score.overall ** 2, d.score.overall ** 2, d.n_params, n_eff)[1]))
+        best = min(found, key=lambda d: information_criteria(
+            base.score.overall ** 2, d.score.overall ** 2, d.n_params, n_eff)[1])
+        if s.other is not None and clearly_better is not None:
+            other = confirm(s.other, host, model, base, data, free, options)
+            best = other if clearly_better(other, best) else best
+        out.append(best)
     return out

@@ -58,7 +58,7 @@ from .refit import remainder
 from .result import Diagnosis, added_by
 from .scoring import relative_fall
 from .shape import fit_shape
-from .status import Pair, best_named, decide, needs_pair
+from .status import Pair, best_named, clearly_better, decide, needs_pair
 from .trial import Trial, floor_for
 from .validation import score_on, validate
 from .verdict import rank
@@ -285,7 +285,8 @@ def look_for_terms(trial: Trial, base: Baseline, progress=None, reference=None,
                    departs=None) -> list:
     """Generic corrections of ``base``, confirmed and ranked best first (:mod:`.discovery`)."""
     n_eff = max(effective_samples(base.score.residual), float(trial.data.independent))
-    found = discover(base, trial.data, list(trial.free), n_eff, trial.options)
+    found = discover(base, trial.data, list(trial.free), n_eff, trial.options,
+                     lambda d, c: clearly_better(trial, d, c))
     for term in found:
         if progress is not None:
             progress(term)
