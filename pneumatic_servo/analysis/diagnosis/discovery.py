@@ -261,8 +261,8 @@ def seen_equations(data: Data) -> list:
     """The equations the records can tell apart: those whose needed signals (a chamber's
     temperature for its energy balance) every time series of ``data`` holds."""
     series = [e for e in data.experiments if not e.static]
-    return [eq for eq in EQUATIONS if not eq.needs or series and all(
-        signal in e.signals for e in series for signal in eq.needs)]
+    return [eq for eq in EQUATIONS if not eq.needs or (bool(series) and all(
+        signal in e.signals for e in series for signal in eq.needs))]
 
 
 def screen_terms(base: Baseline, data: Data, n_eff: float, options: DiagnoseOptions
@@ -297,14 +297,16 @@ def screen_terms(base: Baseline, data: Data, n_eff: float, options: DiagnoseOpti
             """The selection over ``columns`` of this equation, or None if it has none."""
             return screened(_forward_selection(lead, S_fit, S_val, columns, costs, base_val,
                                                n_eff, options.max_terms))
-        best = select(block)
+        path = _forward_selection(lead, S_fit, S_val, block, costs, base_val, n_eff,
+                                  options.max_terms)
+        best = screened(path)
         if best is None:
             continue
         if any(TERMS[t].cost > 1 for t in terms_of(best.start)):
             best = replace(best, plain=select([j for j in block if costs[j] == 1]))
         other = _from_other_starts(lead, S_fit, S_val, block, costs, base_val, n_eff,
-                                   options.max_terms, keys.index(best.keys[0]))
-        if other is not None and {keys[j] for j in other[0]} != set(best.keys):
+                                   options.max_terms, path[0][0])
+        if other is not None and set(other[0]) != set(path[0]):
             best = replace(best, other=screened(other))
         out.append(best)
     return sorted(out, key=lambda s: s.bic), host, model

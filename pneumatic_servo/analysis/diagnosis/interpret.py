@@ -140,11 +140,9 @@ def _heat(chamber: str, reg: str, c: float) -> str:
         return (f'a steady heat flow of {abs(c):.3g} W {into} chamber {chamber}: a heat source '
                 'or sink on its wall (a warm valve or motor, a cold mounting plate)')
     if reg == f'wall_minus_t_{chamber}':
-        return (f'more heat through the wall of chamber {chamber} than the model has, '
-                f'{c:+.3g} W/K: its heat transfer coefficient or wall area is larger'
-                if c > 0 else f'less heat through the wall of chamber {chamber} than the '
-                f'model has, {c:+.3g} W/K: its heat transfer coefficient or wall area is '
-                'smaller')
+        more, larger = ('more', 'larger') if c > 0 else ('less', 'smaller')
+        return (f'{more} heat through the wall of chamber {chamber} than the model has, '
+                f'{c:+.3g} W/K: its heat transfer coefficient or wall area is {larger}')
     return f'a heat flow {into} chamber {chamber} that follows the {DESCRIPTION[reg]}'
 
 
