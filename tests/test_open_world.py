@@ -48,7 +48,7 @@ def test_unlisted_effect_is_located_and_never_misnamed(cls, unlisted):
     assert result.verdict == 'none', result.reason
     best = result.discovered[0]
     assert best.equation == equation, [d.equation for d in result.discovered]
-    assert best.leading == regressor, (best.terms, best.sizes)
+    assert best.leading == regressor, (best.terms, best.shares)
     # the summary says the model is wrong and where, never that nothing is missing
     assert 'no effect is missing' not in result.reason and equation in result.reason
     # applying the discovered term cuts the held-out error by at least half
@@ -248,7 +248,7 @@ def test_memory_walkthrough_unexplained_shape_closed_form_emitted_error_falls(tm
     assert data['status'] == 'unexplained' and data['verdict'] == 'none'
     first = data['discovered'][0]
     assert first['equation'] == 'valve_input'
-    assert leading(first['terms'], first['term_sizes']) == 'command_direction', first
+    assert leading(first['terms'], first['term_shares']) == 'command_direction', first
     # the spool lags the command: a negative effective command in the direction it moved,
     # near the truth (0.06 V)
     assert -0.09 < first['terms']['command_direction'] < -0.03

@@ -48,6 +48,11 @@ from .scoring import information_criteria, relative_fall, score_many
 SCREEN_STEP = 0.05
 #: single terms of each equation refined through the simulator before the selection
 LEADING_PER_EQUATION = 4
+#: secant steps of each such term's coefficient at most (the second settles a friction's,
+#: whose response bends sharply, to within a few per cent) ...
+SECANT_STEPS = 2
+#: ... while a step moves it by more than this share
+SETTLED = 0.1
 #: BIC difference below which two models are not told apart ("not worth more than a bare
 #: mention", Kass and Raftery 1995, J. Am. Stat. Assoc. 90:773)
 BIC_TIE = 2.0
@@ -70,9 +75,10 @@ class Discovered(Candidate):
     interpretation: str = ''
     #: held-out error reduction the linear screen predicted
     screened_reduction: float = 0.0
-    #: regressor -> how much its term varies along the fitted records [SI]
-    #: (:func:`term_sizes`)
+    #: regressor -> how much its term varies along the fitted records [SI], and the share
+    #: of the correction's variation it follows alone [0..1] (:func:`term_spread`)
     sizes: dict = field(default_factory=dict)
+    shares: dict = field(default_factory=dict)
 
     @property
     def terms(self) -> dict[str, float]:
@@ -81,27 +87,39 @@ class Discovered(Candidate):
     @property
     def leading(self) -> str:
         """The term the correction mostly depends on (:func:`.interpret.leading`)."""
-        return leading(self.terms, self.sizes)
+        return leading(self.terms, self.shares)
 
     def to_json(self) -> dict:
         stderr = terms_of(self.stderr)
         return {**super().to_json(), 'equation': self.equation, 'terms': self.terms,
                 'stderr': stderr, 'error_reduction': self.error_reduction,
                 'interpretation': self.interpretation,
-                'screened_reduction': self.screened_reduction, 'term_sizes': self.sizes}
+                'screened_reduction': self.screened_reduction, 'term_sizes': self.sizes,
+                'term_shares': self.shares}
 
 
-def term_sizes(terms: dict[str, float], data: Data, core: dict) -> dict[str, float]:
-    """Regressor -> standard deviation of its term (coefficient times regressor) along the
-    fitted time series [the equation's unit]: how much of the correction's variation it
-    carries there. The constant carries none."""
+def term_spread(terms: dict[str, float], data: Data, core: dict
+                ) -> tuple[dict[str, float], dict[str, float]]:
+    """How each term (coefficient times regressor) varies along the fitted time series:
+    regressor -> its standard deviation [the equation's unit], and regressor -> the share of
+    the whole correction's variation it follows alone (its squared correlation with the
+    sum, 0 to 1). Two terms that are nearly the same function over the record (the angle
+    and its cosine over a quarter turn) can both be large and cancel; the share says which
+    of them the correction's shape is. The constant varies not at all."""
     names = list(terms)
     cols = [term_values([TERMS[r] for r in names], {**smoothed_signals(e), 't_s': e.t}, core)
             for e in data.experiments if not e.static]
     if not cols:
-        return {r: 0.0 for r in names}
+        return {r: 0.0 for r in names}, {r: 0.0 for r in names}
     values = np.concatenate(cols) * np.array([terms[r] for r in names])
-    return {r: float(np.nanstd(values[:, j])) for j, r in enumerate(names)}
+    values = values[np.all(np.isfinite(values), axis=1)]
+    centred = values - values.mean(axis=0)
+    total = centred.sum(axis=1)
+    sizes = np.sqrt(np.mean(centred ** 2, axis=0))
+    shares = [float((centred[:, j] @ total) ** 2 / (centred[:, j] @ centred[:, j]
+                                                      * (total @ total)))
+              if sizes[j] > 0 and total @ total > 0 else 0.0 for j in range(len(names))]
+    return dict(zip(names, map(float, sizes))), dict(zip(names, shares))
 
 
 def correction_host(config: ModelConfig) -> ModelConfig:
@@ -142,6 +160,8 @@ class ScreenedEquation:
 def _residuals(model, host, keys, values, parts) -> list[np.ndarray]:
     """Residual vectors over ``parts`` of ``host`` with each key set to its value (one batch,
     one configuration per key)."""
+    if not keys:
+        return []
     configs = [with_values(host, [k], [v]) for k, v in zip(keys, values)]
     return [stack(r) for r in residual_rows(model, parts, configs)]
 
@@ -173,14 +193,16 @@ def _distinct(S: np.ndarray, order: list[int], limit: float = 0.999) -> list[int
     return [j for j in order if j in kept]
 
 
-def _leading_terms(model, host, keys, r_fit, S_fit, data, blocks, per_equation: int):
+def _leading_terms(model, host, keys, terms, r_fit, S_fit, data, blocks, per_equation: int):
     """The best single term of each equation, refined through the simulator.
 
     The screening slope is taken at a small step; an effect of plausible size
-    is well beyond it, where the response bends. The few best terms of each
-    equation by the linear fit are evaluated at their estimate, the secant
-    slope from there gives a better estimate, and that is evaluated on the
-    fitted and the held-out parts (three batches in all).
+    is well beyond it, where the response bends (friction that switches with the
+    direction of motion bends it most). The few best terms of each equation by the
+    linear fit, and their elaborations (:func:`_elaborations`), are evaluated
+    at their estimate and moved by up to :data:`SECANT_STEPS` secant steps from there,
+    while they move by more than :data:`SETTLED`; the last estimate is evaluated on the
+    fitted and the held-out parts (one batch per step, one more held out).
 
     Returns, per candidate column: (coefficient, fit residual, held-out residual).
     """
@@ -188,20 +210,41 @@ def _leading_terms(model, host, keys, r_fit, S_fit, data, blocks, per_equation: 
     for block in blocks:
         rss = {j: float(np.sum((r_fit + S_fit[:, j] * _slope_fit(r_fit, S_fit[:, j])) ** 2))
                for j in block if np.any(S_fit[:, j])}
-        best = sorted(rss, key=rss.get)
-        cols += _distinct(S_fit, best)[:per_equation]
-    first = [_slope_fit(r_fit, S_fit[:, j]) for j in cols]
-    first = [float(np.clip(c, host.param(keys[j]).lower, host.param(keys[j]).upper))
-             for j, c in zip(cols, first)]
-    at_first = _residuals(model, host, [keys[j] for j in cols], first, data.fit)
-    coef = []
-    for c, r in zip(first, at_first):
-        c2 = c + _slope_fit(r, (r - r_fit) / c) if c else 0.0
-        coef.append(float(np.clip(c2, host.param(keys[cols[len(coef)]]).lower,
-                                  host.param(keys[cols[len(coef)]]).upper)))
+        best = _distinct(S_fit, sorted(rss, key=rss.get))[:per_equation]
+        more = [j for i in best for j in _elaborations(i, block, terms) if j not in best]
+        cols += best + list(dict.fromkeys(more))
+    bounds = [(host.param(keys[j]).lower, host.param(keys[j]).upper) for j in cols]
+    coef = [float(np.clip(_slope_fit(r_fit, S_fit[:, j]), *b)) for j, b in zip(cols, bounds)]
+    before = [(0.0, r_fit)] * len(cols)
     at_fit = _residuals(model, host, [keys[j] for j in cols], coef, data.fit)
+    moving = range(len(cols))
+    for _ in range(SECANT_STEPS):
+        step = {i: _secant(coef[i], at_fit[i], *before[i], *bounds[i]) for i in moving}
+        # a coefficient that has settled stays: another step would only move it within
+        # the simulation's roughness
+        moving = [i for i, c in step.items() if abs(c - coef[i]) > SETTLED * abs(coef[i])]
+        for i, r in zip(moving, _residuals(model, host, [keys[cols[i]] for i in moving],
+                                           [step[i] for i in moving], data.fit)):
+            before[i], coef[i], at_fit[i] = (coef[i], at_fit[i]), step[i], r
     at_val = _residuals(model, host, [keys[j] for j in cols], coef, data.screen_val)
     return {j: (c, rf, rv) for j, c, rf, rv in zip(cols, coef, at_fit, at_val)}
+
+
+def _elaborations(lead: int, block: list[int], terms) -> list[int]:
+    """The columns of ``block`` that elaborate term ``lead``: a product of the variables it
+    depends on with others (:attr:`Term.cost` > 1). The small steps of the linear screen
+    misjudge these most: a friction that grows with pressure ranks far below plain
+    Coulomb friction there, and clearly above it once refined."""
+    seed = set(terms[lead].depends_on)
+    return [j for j in block if terms[j].cost > 1 and seed and seed < set(terms[j].depends_on)]
+
+
+def _secant(c, r, c0, r0, lower, upper) -> float:
+    """The coefficient one secant step on from ``c`` (residual ``r``), through the earlier
+    point ``c0`` (``r0``), within its bounds."""
+    if c == c0:
+        return c
+    return float(np.clip(c + _slope_fit(r, (r - r0) / (c - c0)), lower, upper))
 
 
 def _forward_selection(lead, S_fit, S_val, block, costs, base_val: float, n_eff: float,
@@ -270,18 +313,20 @@ def screen_terms(base: Baseline, data: Data, n_eff: float, options: DiagnoseOpti
     """The screen of every equation, best first, with the host it ran on."""
     host = correction_host(base.config)
     model = Model(host)
-    keys, steps, costs, blocks = [], [], [], []
+    keys, terms, steps, costs, blocks = [], [], [], [], []
     equations = seen_equations(data)
     for eq in equations:
         screened = [t for t in eq.terms if t.screened]
         blocks.append(list(range(len(keys), len(keys) + len(screened))))
         for term in screened:
             keys.append(_key(eq.name, term.name))
+            terms.append(term)
             steps.append(SCREEN_STEP * eq.size / term.typical)
             costs.append(term.cost)
     r_fit, S_fit = _sensitivities(model, host, keys, steps, data.fit)
     r_val, S_val = _sensitivities(model, host, keys, steps, data.screen_val)
-    lead = _leading_terms(model, host, keys, r_fit, S_fit, data, blocks, LEADING_PER_EQUATION)
+    lead = _leading_terms(model, host, keys, terms, r_fit, S_fit, data, blocks,
+                          LEADING_PER_EQUATION)
     base_val = float(r_val @ r_val)
     out = []
     for eq, block in zip(equations, blocks):
@@ -331,7 +376,7 @@ def confirm(screened: ScreenedEquation, host: ModelConfig, model: Model, base: B
     clean = clean.with_effect(name, {k.partition('.')[2]: v for k, v in values.items()})
     problems = [f'{k} stopped at a bound of its fit range' for k in result.at_bound
                 if k in values]
-    sizes = term_sizes(terms_of(values), data, base.config.core)
+    sizes, shares = term_spread(terms_of(values), data, base.config.core)
     found = Discovered(
         effect=name, params=values, stderr={k: result.stderr[k] for k in keys}, fixed={},
         base_params=base_values, score=score,
@@ -344,7 +389,8 @@ def confirm(screened: ScreenedEquation, host: ModelConfig, model: Model, base: B
         acts_on=BY_EQUATION[screened.equation].acts_on,
         summary=BY_EQUATION[screened.equation].equation.description,
         equation=screened.equation, screened_reduction=screened.reduction, sizes=sizes,
-        interpretation=interpret(screened.equation, terms_of(values), base.config, sizes))
+        shares=shares,
+        interpretation=interpret(screened.equation, terms_of(values), base.config, shares))
     return found
 
 

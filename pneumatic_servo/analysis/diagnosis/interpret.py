@@ -10,6 +10,10 @@ from ...model.config import ModelConfig
 
 TYPICAL = {t.name: t.typical for t in BY_NAME.values()}
 DESCRIPTION = {t.name: t.words for t in BY_NAME.values()}
+#: the vocabulary's order: simplest first
+ORDER = {name: i for i, name in enumerate(BY_NAME)}
+#: shares of a correction's variation closer than this are one shape over the record
+SAME_SHAPE = 0.01
 
 
 def _part(reg: str, core: dict) -> str:
@@ -19,17 +23,21 @@ def _part(reg: str, core: dict) -> str:
     return f'between about {k * stroke / N_WINDOWS:.0f} and {(k + 1) * stroke / N_WINDOWS:.0f} deg'
 
 
-def leading(terms: dict[str, float], sizes: dict[str, float] | None = None) -> str:
+def leading(terms: dict[str, float], shares: dict[str, float] | None = None) -> str:
     """The regressor a correction mostly depends on.
 
-    With ``sizes`` (how much each term varies along the record, ``discovery.term_sizes``):
-    the term that varies most. A constant level depends on nothing, so the constant leads
-    only where nothing else varies: a gravity arm seen over a narrow range is a level plus
-    a slope, and it depends on the angle. Without sizes (a correction read back without its
-    record): the term largest at its typical size."""
-    varying = [r for r in terms if (sizes or {}).get(r, 0.0) > 0.0]
+    With ``shares`` (the share of the correction's variation along the record each term
+    follows alone, ``discovery.term_spread``): the term with the largest. A constant level
+    depends on nothing, so the constant leads only where nothing else varies: a gravity arm
+    seen over a narrow range is a level plus a slope, and it depends on the angle. Without
+    shares (a correction read back without its record): the term largest at its typical
+    size. Terms whose shares differ by less than :data:`SAME_SHAPE` are the same function
+    over the record (the angle and its cosine over a short arc); the simplest, first in the
+    vocabulary, leads."""
+    varying = [r for r in terms if (shares or {}).get(r, 0.0) > 0.0]
     if varying:
-        return max(varying, key=lambda r: sizes[r])
+        top = max(shares[r] for r in varying)
+        return min((r for r in varying if shares[r] > top - SAME_SHAPE), key=ORDER.get)
     return max(terms, key=lambda r: abs(terms[r]) * TYPICAL[r])
 
 
@@ -201,14 +209,14 @@ def _measurement(signal: str, reg: str, c: float, terms: dict, core: dict) -> st
 
 
 def interpret(equation: str, terms: dict[str, float], config: ModelConfig,
-              sizes: dict[str, float] | None = None) -> str:
+              shares: dict[str, float] | None = None) -> str:
     """One sentence on a correction of ``equation`` with ``terms`` (regressor -> coefficient,
-    SI): what it is, after its leading term (:func:`leading`, with the terms' ``sizes`` along
-    the record where known), and the physics that usually causes it; a sensor error is
+    SI): what it is, after its leading term (:func:`leading`, with the terms' ``shares`` of
+    its variation along the record where known), and the physics that usually causes it; a sensor error is
     called one, never a change of the physics."""
     if not terms:
         return 'no term'
-    reg = leading(terms, sizes)
+    reg = leading(terms, shares)
     c, core = terms[reg], config.core
     if equation == 'moment_balance':
         text = _moment(reg, c, terms, core)
