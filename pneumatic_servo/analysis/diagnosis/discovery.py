@@ -217,15 +217,15 @@ def _leading_terms(model, host, keys, terms, r_fit, S_fit, data, blocks, per_equ
     coef = [float(np.clip(_slope_fit(r_fit, S_fit[:, j]), *b)) for j, b in zip(cols, bounds)]
     before = [(0.0, r_fit)] * len(cols)
     at_fit = _residuals(model, host, [keys[j] for j in cols], coef, data.fit)
-    moving = range(len(cols))
+    moving = list(range(len(cols)))
     for _ in range(SECANT_STEPS):
         step = {i: _secant(coef[i], at_fit[i], *before[i], *bounds[i]) for i in moving}
-        # a coefficient that has settled stays: another step would only move it within
-        # the simulation's roughness
-        moving = [i for i, c in step.items() if abs(c - coef[i]) > SETTLED * abs(coef[i])]
         for i, r in zip(moving, _residuals(model, host, [keys[cols[i]] for i in moving],
                                            [step[i] for i in moving], data.fit)):
             before[i], coef[i], at_fit[i] = (coef[i], at_fit[i]), step[i], r
+        # a coefficient that has settled stays: another step would only move it within
+        # the simulation's roughness
+        moving = [i for i in moving if abs(coef[i] - before[i][0]) > SETTLED * abs(coef[i])]
     at_val = _residuals(model, host, [keys[j] for j in cols], coef, data.screen_val)
     return {j: (c, rf, rv) for j, c, rf, rv in zip(cols, coef, at_fit, at_val)}
 
