@@ -97,8 +97,11 @@ class TransducerLagA(Component):
     params = (Param('lag_s', 's', 0.008, 1e-4, 1.0, 'time constant'),
               Param('sample_interval_s', 's', 0.002, 1e-5, 1.0, 'record interval', fit=False))
     sensor_error = staticmethod(_transducer_lag)
-    # to first order a lag reads -tau dp/dt: the rate of change is the dependence
-    equations, depends, closed_form = ('measurement_p_a',), ({'p_a_rate'},), ('rate_p_a',)
+    # to first order a lag reads -tau dp/dt: the rate of change is the dependence; a lag
+    # operator on p_a (a memory of it) is the dependence and the closed form exactly
+    equations = ('measurement_p_a',)
+    depends = ({'p_a_rate'}, {'p_a', 'p_a_lag_5ms'}, {'p_a', 'p_a_lag_20ms'})
+    closed_form = ('rate_p_a', 'lag_')
 
 
 # --- windows over the stroke ---------------------------------------------------------------

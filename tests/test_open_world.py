@@ -267,6 +267,44 @@ def test_memory_walkthrough_unexplained_shape_closed_form_emitted_error_falls(tm
     assert runs['after']['angle']['rmse'] < 0.5 * runs['before']['angle']['rmse']
 
 
+# ------------------------------------------------------------------ a lagging transmitter
+def _transmitter_lag_b(values, signals, core):
+    from scipy.signal import lfilter
+    p = np.asarray(signals['p_b_pa'], dtype=float)
+    a = np.exp(-1e-3 / values['lag_s'])
+    return {'p_b_pa': lfilter([1 - a], [1, -a], p, zi=[a * p[0]])[0] - p}
+
+
+class LaggingTransmitterB(Component):
+    """Chamber b's transmitter sits at the end of a long thin line: it reads 10 ms late."""
+
+    name = 'test_lagging_transmitter_b'
+    params = (Param('lag_s', 's', 0.01, 1e-4, 1.0, 'time constant'),)
+    sensor_error = staticmethod(_transmitter_lag_b)
+
+
+def test_a_lagging_pressure_transmitter_is_read_as_a_lag_of_its_reading():
+    """A lag as fast as the closed loop's steps is far from its first-order rate there; the
+    lag operator on the reading writes it (``terms.lag``): located in chamber b's reading,
+    its lag terms add up to about the transmitter's 10 ms."""
+    from pneumatic_servo.analysis.diagnosis.interpret import _lag_ms
+    from pneumatic_servo.synth.varied import Record, make_record
+    registry.register(LaggingTransmitterB)
+    try:
+        exp = make_record(Record('closed_steps', 1000.0, 10.0, seed=5, effects={
+            LaggingTransmitterB.name: {'lag_s': 0.01}}))
+    finally:
+        registry._REGISTRY.pop(LaggingTransmitterB.name, None)
+    result = diagnose([exp])
+    assert result.status == 'unexplained' and result.verdict == 'none', result.reason
+    best = result.discovered[0]
+    assert best.equation == 'measurement_p_b', result.reason
+    assert best.leading.startswith('lag_') and best.leading.endswith('_p_b'), best.terms
+    assert _lag_ms('b', best.terms) == pytest.approx(10.0, rel=0.3), best.terms
+    assert 'reads through a lag of about' in best.interpretation
+    assert best.error_reduction > 0.5
+
+
 # ----------------------------------------------- the energy balances and temperature readings
 def _cold_plate_hook(t, x, s, p, P, c, dx):
     c[C_QA] += p[0] * (p[1] - x[T_A])

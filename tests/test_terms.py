@@ -12,7 +12,7 @@ from pneumatic_servo.analysis.diagnosis.discovery import Discovered
 from pneumatic_servo.analysis.diagnosis.emit import effect_source
 from pneumatic_servo.effects.corrections import BY_EQUATION, EQUATIONS, coefficient_name
 from pneumatic_servo.effects.layout import C_MA, C_PS, C_TORQUE, C_U, C_XV, K_GAIN
-from pneumatic_servo.effects.terms import TERMS, direction, term_values
+from pneumatic_servo.effects.terms import TERMS, direction, lag, term_values
 from pneumatic_servo.fitting.problem import with_values
 from pneumatic_servo.model import Model, ModelConfig, simulate
 from pneumatic_servo.model.simulate import initial_state
@@ -79,24 +79,63 @@ def test_direction_is_a_play_that_remembers_across_missing_samples():
     assert d[6] == pytest.approx(1.0)
 
 
+def test_lag_is_a_first_order_lag_that_holds_across_missing_samples():
+    """The transmitter lag's operator: a step read through tau = 20 ms is at 1 - 1/e after
+    tau; a missing sample says nothing and the lag holds; without sample times, no lag."""
+    t = np.arange(0.0, 0.1, 1e-3)
+    v = np.where(t >= 0.01, 1.0, 0.0)
+    y = lag(v, t, 0.02)
+    assert y[0] == 0.0 and y[30] == pytest.approx(1.0 - math.exp(-1.0), abs=0.03)
+    gap = v.copy()
+    gap[20] = np.nan
+    z = lag(gap, t, 0.02)
+    assert math.isnan(z[20]) and z[21] == pytest.approx(y[21], abs=0.05)
+    assert np.array_equal(lag(v, None, 0.02), v)
+
+
+def _emitted(term, tmp_path, stem):
+    """The effect class ``--emit-effect`` writes for ``term``, loaded from its file."""
+    path = tmp_path / f'{stem}.py'
+    path.write_text(effect_source(term, ['a record']))
+    spec = importlib.util.spec_from_file_location(stem, path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return next(v for k, v in vars(module).items() if k.startswith('Discovered'))
+
+
+def _discovered(equation: str, coefficient: dict) -> Discovered:
+    name = BY_EQUATION[equation].name
+    return Discovered(effect=name, params=coefficient, stderr={k: 1e-3 for k in coefficient},
+                      fixed={}, base_params={}, score=None, error_reduction=0.5,
+                      channel_reduction={}, n_params=2, problems=[], config=None,
+                      correlation=None, converged=True, seconds=0.0, acts_on='both',
+                      summary='', equation=equation, screened_reduction=0.5,
+                      interpretation='')
+
+
+def test_an_emitted_lagging_transmitter_reads_as_the_package_one(tmp_path):
+    """A lag operator on p_a is a sensor error over the record's arrays: the emitted file
+    computes what the package's correction does, and it reads p_a late."""
+    name = BY_EQUATION['measurement_p_a'].name
+    coefficient = {f'{name}.lag_20ms_p_a_coefficient': 0.5}
+    cls = _emitted(_discovered('measurement_p_a', coefficient), tmp_path, 'lagging')
+    t = np.arange(0.0, 0.2, 1e-3)
+    signals = {'t_s': t, 'p_a_pa': 3e5 + 2e5 * (t >= 0.05)}
+    correction = BY_EQUATION['measurement_p_a']
+    package = correction.sensor_error({**correction.neutral, 'lag_20ms_p_a_coefficient': 0.5},
+                                      signals, ModelConfig.paper().core)['p_a_pa']
+    emitted = cls.sensor_error(cls.example, signals, ModelConfig.paper().core)['p_a_pa']
+    assert np.allclose(package, emitted, rtol=0, atol=1e-9)
+    assert emitted[60] < -5e4 and emitted[0] == 0.0, 'the reading lags the step'
+
+
 def test_an_emitted_memory_correction_simulates_as_the_package_one(tmp_path):
     """--emit-effect writes the hook from the same text: a valve hysteresis term (the
     command's memory, a state of the effect) simulates identically to the correction."""
     name = BY_EQUATION['valve_input'].name
     coefficient = {f'{name}.command_direction_coefficient': -0.08,
                    f'{name}.constant_coefficient': 0.01}
-    term = Discovered(effect=name, params=coefficient, stderr={k: 1e-3 for k in coefficient},
-                      fixed={}, base_params={}, score=None, error_reduction=0.5,
-                      channel_reduction={}, n_params=3, problems=[], config=None,
-                      correlation=None, converged=True, seconds=0.0, acts_on='both',
-                      summary='', equation='valve_input', screened_reduction=0.5,
-                      interpretation='the valve lags its command')
-    path = tmp_path / 'hyst.py'
-    path.write_text(effect_source(term, ['a record']))
-    spec = importlib.util.spec_from_file_location('hyst', path)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    cls = module.DiscoveredValveInput
+    cls = _emitted(_discovered('valve_input', coefficient), tmp_path, 'hyst')
     registry.register(cls)
     try:
         t = np.arange(0.0, 1.0, 1e-3)

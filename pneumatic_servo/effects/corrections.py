@@ -135,7 +135,7 @@ _LAYOUT_NAMES = ('THETA', 'OMEGA', 'P_A', 'P_B', 'T_A', 'T_B', 'C_PE', 'C_U', 'C
                  'C_PS_REG', 'C_TE', 'C_TORQUE', 'C_XV', 'C_QA', 'C_QB', 'K_NULL', 'K_STROKE',
                  'K_GAIN', 'K_HALF_W', 'K_HOLE_R', 'add_flow')
 _TERM_NAMES = ('signed_sqrt', 'window', 'hat', 'memory_direction', 'memory_rate',
-               'COMMAND_PLAY_V', 'direction', 'MOTION_PLAY_RAD', 'rate')
+               'COMMAND_PLAY_V', 'direction', 'MOTION_PLAY_RAD', 'rate', 'lag')
 
 
 def _used(text: str, names) -> list[str]:

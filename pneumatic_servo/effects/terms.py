@@ -26,6 +26,7 @@ it is offered to the sensor equations only.
 """
 from __future__ import annotations
 
+import math
 import re
 from dataclasses import dataclass
 from functools import cached_property
@@ -53,6 +54,11 @@ N_KNOTS = 8
 #: [s] span of the derivative a sensor's rate is taken over (the prediction's own
 #: derivative window, ``analysis.equation_residual``, is 31 ms)
 RATE_WINDOW_S = 0.021
+#: [s] time constants of the first-order lags a pressure reading is offered through: a
+#: transmitter on a short line, and on a long thin one. A coefficient c on a lag of tau
+#: is, to first order, a lag of c tau; a lag as fast as the record's steps is far from
+#: its first-order rate there, and such a term writes it exactly
+PRESSURE_LAGS_S = (0.005, 0.02)
 
 
 # --- functions the expressions call: scalar in compiled hooks, arrays in numpy ----------
@@ -90,6 +96,30 @@ def _play(v, half):
         y = v[i] if np.isnan(y) else min(max(y, v[i] - half), v[i] + half)
         out[i] = y
     return out
+
+
+@njit(cache=True)
+def _first_order(v, a):
+    out = np.empty(len(v))
+    y = np.nan
+    for i in range(len(v)):
+        if np.isnan(v[i]):  # a missing sample: the lag holds, and says nothing there
+            out[i] = v[i]
+            continue
+        y = v[i] if np.isnan(y) else a * y + (1.0 - a) * v[i]
+        out[i] = y
+    return out
+
+
+def lag(v: np.ndarray, t, tau: float) -> np.ndarray:
+    """``v`` read through a first-order lag of time constant ``tau`` [s], starting at rest
+    at its first sample (unchanged without sample times); exact for a reading held over
+    each sample interval."""
+    v = np.ascontiguousarray(v, dtype=float)
+    if t is None or len(v) < 2:
+        return v.copy()
+    dt = float(np.median(np.diff(np.asarray(t, dtype=float))))
+    return _first_order(v, math.exp(-dt / tau))
 
 
 def rate(v: np.ndarray, t) -> np.ndarray:
@@ -159,6 +189,9 @@ VARIABLES = (
              'angle_rad'),
     Variable('p_a_rate', None, "rate(signals['p_a_pa'], signals.get('t_s'))", 'p_a_pa'),
     Variable('p_b_rate', None, "rate(signals['p_b_pa'], signals.get('t_s'))", 'p_b_pa'),
+    *(Variable(f'p_{k}_lag_{1e3 * tau:.0f}ms', None,
+               f"lag(signals['p_{k}_pa'], signals.get('t_s'), {tau})", f'p_{k}_pa', True)
+      for k in 'ab' for tau in PRESSURE_LAGS_S),
     # the gas temperatures, where a record holds them (the energy balances)
     Variable('t_a', 'x[T_A]', "signals['t_a_k']", 't_a_k', room=True),
     Variable('t_b', 'x[T_B]', "signals['t_b_k']", 't_b_k', room=True),
@@ -276,6 +309,11 @@ TERMS = (
          'p_a_rate', ('measurement_p_a',)),
     Term('rate_p_b', 'Pa/s', 2e6, 'rate of change of p_b (a lagging transmitter)',
          'p_b_rate', ('measurement_p_b',)),
+    # ... and its exact form at fixed time constants (a memory of the reading)
+    *(Term(f'lag_{1e3 * tau:.0f}ms_p_{k}', 'Pa', tau * 2e6, f'p_{k} through a first-order lag '
+           f'of {1e3 * tau:.0f} ms, minus p_{k} (a transmitter that reads late)',
+           f'(p_{k}_lag_{1e3 * tau:.0f}ms - p_{k})', (f'measurement_p_{k}',), 2)
+      for k in 'ab' for tau in PRESSURE_LAGS_S),
     # the energy balances and temperature readings (records that hold the temperatures)
     *(Term(f'wall_minus_t_{k}', 'K', 20.0, f'wall temperature minus the chamber {k} gas '
            'temperature (heat through its wall)', f'(t_wall - t_{k})', (f'energy_balance_{k}',))
@@ -309,7 +347,7 @@ def _array_namespace(signals: dict, core: dict, variables) -> dict:
     default), with the functions the expressions call."""
     n = len(next(iter(signals.values())))
     ns = {'np': np, 'signed_sqrt': signed_sqrt, 'window': window, 'direction': direction,
-          'rate': rate, 'hat': hat,
+          'rate': rate, 'lag': lag, 'hat': hat,
           'COMMAND_PLAY_V': COMMAND_PLAY_V, 'MOTION_PLAY_RAD': MOTION_PLAY_RAD,
           'signals': signals, 'core': core}
     ns['p_atm'] = float(core['atmospheric_pressure_pa'])
