@@ -300,7 +300,7 @@ def test_a_lagging_pressure_transmitter_is_read_as_a_lag_of_its_reading():
     best = result.discovered[0]
     assert best.equation == 'measurement_p_b', result.reason
     assert best.leading.startswith('lag_') and best.leading.endswith('_p_b'), best.terms
-    assert _lag_ms('b', best.terms) == pytest.approx(10.0, rel=0.3), best.terms
+    assert _lag_ms('p_b', best.terms) == pytest.approx(10.0, rel=0.3), best.terms
     assert 'reads through a lag of about' in best.interpretation
     assert best.error_reduction > 0.5
 

@@ -54,11 +54,15 @@ N_KNOTS = 8
 #: [s] span of the derivative a sensor's rate is taken over (the prediction's own
 #: derivative window, ``analysis.equation_residual``, is 31 ms)
 RATE_WINDOW_S = 0.021
-#: [s] time constants of the first-order lags a pressure reading is offered through: a
-#: transmitter on a short line, and on a long thin one. A coefficient c on a lag of tau
-#: is, to first order, a lag of c tau; a lag as fast as the record's steps is far from
-#: its first-order rate there, and such a term writes it exactly
-PRESSURE_LAGS_S = (0.005, 0.02)
+#: [s] time constants of the first-order lags a reading is offered through: a pressure
+#: transmitter on a short line and on a long thin one. A coefficient c on a lag of tau is,
+#: to first order, a lag of c tau; a lag as fast as the record's steps is far from its
+#: first-order rate there, and such a term writes it. (Not the gas temperatures: a
+#: thermocouple's 60 ms lag on a blocked record fitted as 114 ms, each window starting
+#: from the lagged reading; their rate reads it right, if it explains less)
+LAGS_S = {'p_a': (0.005, 0.02), 'p_b': (0.005, 0.02)}
+#: the signal each lagged reading is of, a typical rate of change [unit/s] and the unit
+_READINGS = {'p_a': ('p_a_pa', 2e6, 'Pa'), 'p_b': ('p_b_pa', 2e6, 'Pa')}
 
 
 # --- functions the expressions call: scalar in compiled hooks, arrays in numpy ----------
@@ -189,9 +193,10 @@ VARIABLES = (
              'angle_rad'),
     Variable('p_a_rate', None, "rate(signals['p_a_pa'], signals.get('t_s'))", 'p_a_pa'),
     Variable('p_b_rate', None, "rate(signals['p_b_pa'], signals.get('t_s'))", 'p_b_pa'),
-    *(Variable(f'p_{k}_lag_{1e3 * tau:.0f}ms', None,
-               f"lag(signals['p_{k}_pa'], signals.get('t_s'), {tau})", f'p_{k}_pa', True)
-      for k in 'ab' for tau in PRESSURE_LAGS_S),
+    *(Variable(f'{v}_lag_{1e3 * tau:.0f}ms', None,
+               f"lag(signals['{_READINGS[v][0]}'], signals.get('t_s'), {tau})",
+               _READINGS[v][0], True)
+      for v, taus in LAGS_S.items() for tau in taus),
     # the gas temperatures, where a record holds them (the energy balances)
     Variable('t_a', 'x[T_A]', "signals['t_a_k']", 't_a_k', room=True),
     Variable('t_b', 'x[T_B]', "signals['t_b_k']", 't_b_k', room=True),
@@ -309,11 +314,6 @@ TERMS = (
          'p_a_rate', ('measurement_p_a',)),
     Term('rate_p_b', 'Pa/s', 2e6, 'rate of change of p_b (a lagging transmitter)',
          'p_b_rate', ('measurement_p_b',)),
-    # ... and its exact form at fixed time constants (a memory of the reading)
-    *(Term(f'lag_{1e3 * tau:.0f}ms_p_{k}', 'Pa', tau * 2e6, f'p_{k} through a first-order lag '
-           f'of {1e3 * tau:.0f} ms, minus p_{k} (a transmitter that reads late)',
-           f'(p_{k}_lag_{1e3 * tau:.0f}ms - p_{k})', (f'measurement_p_{k}',), 2)
-      for k in 'ab' for tau in PRESSURE_LAGS_S),
     # the energy balances and temperature readings (records that hold the temperatures)
     *(Term(f'wall_minus_t_{k}', 'K', 20.0, f'wall temperature minus the chamber {k} gas '
            'temperature (heat through its wall)', f'(t_wall - t_{k})', (f'energy_balance_{k}',))
@@ -322,6 +322,12 @@ TERMS = (
            (f'measurement_t_{k}',)) for k in 'ab'),
     *(Term(f'rate_t_{k}', 'K/s', 50.0, f'rate of change of T_{k} (a lagging temperature '
            'sensor)', f't_{k}_rate', (f'measurement_t_{k}',)) for k in 'ab'),
+    # every dynamic reading through a first-order lag at fixed time constants (a memory of
+    # the reading; the rates above are its first order)
+    *(Term(f'lag_{1e3 * tau:.0f}ms_{v}', _READINGS[v][2], tau * _READINGS[v][1],
+           f'{v} through a first-order lag of {1e3 * tau:.0f} ms, minus {v} (a sensor that '
+           'reads late)', f'({v}_lag_{1e3 * tau:.0f}ms - {v})', (f'measurement_{v}',), 2)
+      for v, taus in LAGS_S.items() for tau in taus),
 )
 BY_NAME = {t.name: t for t in TERMS}
 

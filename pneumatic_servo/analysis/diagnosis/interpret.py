@@ -167,14 +167,22 @@ def _temperature(chamber: str, reg: str, c: float) -> str:
         f'{DESCRIPTION[reg]}'
 
 
-def _lag_ms(chamber: str, terms: dict) -> float:
-    """The lag [ms] of chamber ``chamber``'s reading the terms add up to, to first order:
+def _lag_ms(reading: str, terms: dict) -> float:
+    """The lag [ms] of ``reading`` ('p_a', 't_b', ...) its terms add up to, to first order:
     a coefficient c on a lag of tau is a lag of c tau, one on the rate a lag of -c."""
-    total = -terms.get(f'rate_p_{chamber}', 0.0)
+    total = -terms.get(f'rate_{reading}', 0.0)
     for reg, c in terms.items():
-        if reg.startswith('lag_') and reg.endswith(f'_p_{chamber}'):
+        if reg.startswith('lag_') and reg.endswith(f'ms_{reading}'):
             total += c * float(reg.split('_')[1].removesuffix('ms')) / 1e3
     return 1e3 * total
+
+
+def _lagging(what: str, reading: str, terms: dict, cause: str) -> str:
+    """'the <what> reads through a lag of about N ms ...: <cause>' (:func:`_lag_ms`)."""
+    ms = _lag_ms(reading, terms)
+    return (f'the {what} reads through a lag of about {abs(ms):.3g} ms'
+            + (f' (its lag terms together, to first order): {cause}' if ms > 0 else
+               ' ahead: a timing error of the sensor'))
 
 
 def _measurement(signal: str, reg: str, c: float, terms: dict, core: dict) -> str:
@@ -210,12 +218,9 @@ def _measurement(signal: str, reg: str, c: float, terms: dict, core: dict) -> st
                 'offset (a gauge reading would be about -101 kPa)')
     if reg == f'p_{chamber}':
         return f'the chamber {chamber} transmitter\'s gain is off by {100 * c:+.2f} %'
-    if reg.startswith('lag_') and reg.endswith(f'_p_{chamber}'):
-        ms = _lag_ms(chamber, terms)
-        return (f'the chamber {chamber} pressure reads through a lag of about {abs(ms):.3g} ms'
-                + (' (its lag terms together, to first order): a lag of the transmitter or '
-                   'of the line to it' if ms > 0 else ' ahead: a timing error of the '
-                   'transmitter'))
+    if reg.startswith('lag_'):
+        return _lagging(f'chamber {chamber} pressure', f'p_{chamber}', terms,
+                        'a lag of the transmitter or of the line to it')
     if reg == f'rate_p_{chamber}':
         return (f'the chamber {chamber} pressure reads {1e3 * abs(c):.3g} ms '
                 + ('late: a lag of the transmitter or of the line to it' if c < 0 else
