@@ -122,8 +122,12 @@ def lag(v: np.ndarray, t, tau: float) -> np.ndarray:
     v = np.ascontiguousarray(v, dtype=float)
     if t is None or len(v) < 2:
         return v.copy()
-    dt = float(np.median(np.diff(np.asarray(t, dtype=float))))
-    return _first_order(v, math.exp(-dt / tau))
+    return _first_order(v, math.exp(-_interval(t) / tau))
+
+
+def _interval(t) -> float:
+    """The sample interval of times ``t`` [s] (their median step)."""
+    return float(np.median(np.diff(np.asarray(t, dtype=float))))
 
 
 def rate(v: np.ndarray, t) -> np.ndarray:
@@ -135,7 +139,7 @@ def rate(v: np.ndarray, t) -> np.ndarray:
     v = np.asarray(v, dtype=float)
     if t is None or len(v) < 5:
         return np.zeros(len(v))
-    dt = float(np.median(np.diff(np.asarray(t, dtype=float))))
+    dt = _interval(t)
     window = min(max(5, int(round(RATE_WINDOW_S / dt)) | 1), len(v) - (1 - len(v) % 2))
     return savgol_filter(v, window, 2, deriv=1, delta=dt)
 
@@ -322,8 +326,8 @@ TERMS = (
            (f'measurement_t_{k}',)) for k in 'ab'),
     *(Term(f'rate_t_{k}', 'K/s', 50.0, f'rate of change of T_{k} (a lagging temperature '
            'sensor)', f't_{k}_rate', (f'measurement_t_{k}',)) for k in 'ab'),
-    # every dynamic reading through a first-order lag at fixed time constants (a memory of
-    # the reading; the rates above are its first order)
+    # a reading through a first-order lag at fixed time constants (a memory of the reading;
+    # the rates above are its first order)
     *(Term(f'lag_{1e3 * tau:.0f}ms_{v}', _READINGS[v][2], tau * _READINGS[v][1],
            f'{v} through a first-order lag of {1e3 * tau:.0f} ms, minus {v} (a sensor that '
            'reads late)', f'({v}_lag_{1e3 * tau:.0f}ms - {v})', (f'measurement_{v}',), 2)

@@ -168,7 +168,7 @@ def _temperature(chamber: str, reg: str, c: float) -> str:
 
 
 def _lag_ms(reading: str, terms: dict) -> float:
-    """The lag [ms] of ``reading`` ('p_a', 't_b', ...) its terms add up to, to first order:
+    """The lag [ms] of ``reading`` ('p_a' or 'p_b') its terms add up to, to first order:
     a coefficient c on a lag of tau is a lag of c tau, one on the rate a lag of -c."""
     total = -terms.get(f'rate_{reading}', 0.0)
     for reg, c in terms.items():
@@ -233,8 +233,8 @@ def interpret(equation: str, terms: dict[str, float], config: ModelConfig,
               shares: dict[str, float] | None = None) -> str:
     """One sentence on a correction of ``equation`` with ``terms`` (regressor -> coefficient,
     SI): what it is, after its leading term (:func:`leading`, with the terms' ``shares`` of
-    its variation along the record where known), and the physics that usually causes it; a sensor error is
-    called one, never a change of the physics."""
+    its variation along the record where known), and the physics that usually causes it;
+    a sensor error is called one, never a change of the physics."""
     if not terms:
         return 'no term'
     reg = leading(terms, shares)
