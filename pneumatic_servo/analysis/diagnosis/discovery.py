@@ -27,10 +27,11 @@ import time
 from dataclasses import dataclass, field, replace
 
 import numpy as np
+from scipy.optimize import minimize_scalar
 
 from ...effects.corrections import BY_EQUATION, EQUATIONS, coefficient_name
 from ...effects.terms import BY_NAME as TERMS
-from ...effects.terms import term_values
+from ...effects.terms import BY_VARIABLE, lag, term_values
 from ...fitting import residual_rows, stack
 from ...fitting.problem import with_values
 from ...model.assembly import Model
@@ -120,6 +121,36 @@ def term_spread(terms: dict[str, float], data: Data, core: dict
                                                       * (total @ total)))
               if sizes[j] > 0 and total @ total > 0 else 0.0 for j in range(len(names))]
     return dict(zip(names, map(float, sizes))), dict(zip(names, shares))
+
+
+def equivalent_lag_ms(equation: str, terms: dict[str, float], data: Data, core: dict
+                      ) -> float | None:
+    """The time constant [ms] of the one first-order lag of a pressure reading whose error
+    is closest, over the fitted time series, to what the correction's lag and rate terms
+    of it add (least squares, 0.1 ms to 1 s); None where it has none. Their first-order
+    sum is far off where a coefficient is far from one: a 20 ms lag at 0.71 and a rate
+    read 15.8 ms for a transmitter's 8 ms, this reads 9.4 ms."""
+    reading = equation.removeprefix('measurement_')
+    lags = [r for r in terms if r.startswith('lag_') and r.endswith(f'ms_{reading}')]
+    if not lags:
+        return None
+    dynamic = lags + [r for r in terms if r == f'rate_{reading}']
+    signal = BY_VARIABLE[reading].signal
+    cases = []  # (reading, its times, what the terms add to it) of each time series
+    for e in data.experiments:
+        if not e.static and signal in e.signals:
+            signals = {**smoothed_signals(e), 't_s': e.t}
+            added = term_values([TERMS[r] for r in dynamic], signals, core) @ np.array(
+                [terms[r] for r in dynamic])
+            cases.append((np.asarray(signals[signal], dtype=float), e.t, added))
+    if not cases:
+        return None
+
+    def misfit(log_tau):
+        return sum(float(np.nansum((added - (lag(p, t, math.exp(log_tau)) - p)) ** 2))
+                   for p, t, added in cases)
+    best = minimize_scalar(misfit, bounds=(math.log(1e-4), math.log(1.0)), method='bounded')
+    return 1e3 * math.exp(best.x)
 
 
 def correction_host(config: ModelConfig) -> ModelConfig:
@@ -390,7 +421,9 @@ def confirm(screened: ScreenedEquation, host: ModelConfig, model: Model, base: B
         summary=BY_EQUATION[screened.equation].equation.description,
         equation=screened.equation, screened_reduction=screened.reduction, sizes=sizes,
         shares=shares,
-        interpretation=interpret(screened.equation, terms_of(values), base.config, shares))
+        interpretation=interpret(screened.equation, terms_of(values), base.config, shares,
+                                 equivalent_lag_ms(screened.equation, terms_of(values), data,
+                                                   base.config.core)))
     return found
 
 

@@ -177,15 +177,19 @@ def _lag_ms(reading: str, terms: dict) -> float:
     return 1e3 * total
 
 
-def _lagging(what: str, reading: str, terms: dict, cause: str) -> str:
-    """'the <what> reads through a lag of about N ms ...: <cause>' (:func:`_lag_ms`)."""
-    ms = _lag_ms(reading, terms)
-    return (f'the {what} reads through a lag of about {abs(ms):.3g} ms'
-            + (f' (its lag terms together, to first order): {cause}' if ms > 0 else
-               ' ahead: a timing error of the sensor'))
+def _lagging(what: str, reading: str, terms: dict, cause: str, lag_ms: float | None) -> str:
+    """'the <what> reads through a lag of about N ms ...: <cause>': ``lag_ms``, the one
+    first-order lag closest to the correction over the record, where known; else the lag
+    terms added up to first order (:func:`_lag_ms`)."""
+    how = 'the one lag closest to its lag terms' if lag_ms is not None else \
+        'its lag terms together, to first order'
+    ms = lag_ms if lag_ms is not None else _lag_ms(reading, terms)
+    return (f'the {what} reads through a lag of about {abs(ms):.2g} ms'
+            + (f' ({how}): {cause}' if ms > 0 else ' ahead: a timing error of the sensor'))
 
 
-def _measurement(signal: str, reg: str, c: float, terms: dict, core: dict) -> str:
+def _measurement(signal: str, reg: str, c: float, terms: dict, core: dict,
+                 lag_ms: float | None = None) -> str:
     if signal == 'angle':
         if reg == 'constant':
             return f'the angle sensor reads {math.degrees(c):+.3g} deg off: an encoder zero offset'
@@ -220,7 +224,7 @@ def _measurement(signal: str, reg: str, c: float, terms: dict, core: dict) -> st
         return f'the chamber {chamber} transmitter\'s gain is off by {100 * c:+.2f} %'
     if reg.startswith('lag_'):
         return _lagging(f'chamber {chamber} pressure', f'p_{chamber}', terms,
-                        'a lag of the transmitter or of the line to it')
+                        'a lag of the transmitter or of the line to it', lag_ms)
     if reg == f'rate_p_{chamber}':
         return (f'the chamber {chamber} pressure reads {1e3 * abs(c):.3g} ms '
                 + ('late: a lag of the transmitter or of the line to it' if c < 0 else
@@ -230,11 +234,12 @@ def _measurement(signal: str, reg: str, c: float, terms: dict, core: dict) -> st
 
 
 def interpret(equation: str, terms: dict[str, float], config: ModelConfig,
-              shares: dict[str, float] | None = None) -> str:
+              shares: dict[str, float] | None = None, lag_ms: float | None = None) -> str:
     """One sentence on a correction of ``equation`` with ``terms`` (regressor -> coefficient,
     SI): what it is, after its leading term (:func:`leading`, with the terms' ``shares`` of
     its variation along the record where known), and the physics that usually causes it;
-    a sensor error is called one, never a change of the physics."""
+    a sensor error is called one, never a change of the physics. ``lag_ms``: the time
+    constant of a reading's lag terms over the record (``discovery.equivalent_lag_ms``)."""
     if not terms:
         return 'no term'
     reg = leading(terms, shares)
@@ -249,7 +254,7 @@ def interpret(equation: str, terms: dict[str, float], config: ModelConfig,
         text = _heat(equation[-1], reg, c)
     else:
         text = 'a sensor error, not missing physics: ' + _measurement(
-            equation.removeprefix('measurement_'), reg, c, terms, core)
+            equation.removeprefix('measurement_'), reg, c, terms, core, lag_ms)
     others = [r for r in terms if r != reg]
     if others:
         text += ' (with ' + ', '.join(f'{r} {terms[r]:+.3g}' for r in others) + ')'
