@@ -39,6 +39,20 @@ def unlisted():
     return get
 
 
+def test_the_leading_term_is_the_shape_the_correction_follows():
+    """Two large terms that cancel (a spring read as angle and cosine over a short arc)
+    follow one shape: the simplest leads. A level plus a slope depends on the angle; a
+    level alone leads only where nothing varies; read back without its record, the term
+    largest at its typical size leads."""
+    spring = {'angle': -0.053, 'cos_angle': 0.061}
+    assert leading(spring, {'angle': 0.99910, 'cos_angle': 0.99916}) == 'angle'
+    assert leading(spring, {'angle': 0.5, 'cos_angle': 0.9}) == 'cos_angle'
+    arm = {'constant': -0.2, 'angle': 0.05}
+    assert leading(arm, {'constant': 0.0, 'angle': 1.0}) == 'angle'
+    assert leading({'constant': 0.1}, {'constant': 0.0}) == 'constant'
+    assert leading(arm) == 'constant'
+
+
 @pytest.mark.parametrize('cls', list(EXPECTED), ids=lambda c: c.__name__)
 def test_unlisted_effect_is_located_and_never_misnamed(cls, unlisted):
     result = unlisted(cls)
