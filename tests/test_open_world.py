@@ -282,11 +282,15 @@ def test_memory_walkthrough_unexplained_shape_closed_form_emitted_error_falls(tm
 
 
 # ------------------------------------------------------------------ a lagging transmitter
-def _transmitter_lag_b(values, signals, core):
-    from scipy.signal import lfilter
-    p = np.asarray(signals['p_b_pa'], dtype=float)
-    a = np.exp(-1e-3 / values['lag_s'])
-    return {'p_b_pa': lfilter([1 - a], [1, -a], p, zi=[a * p[0]])[0] - p}
+def _first_order_lag(signal: str):
+    """A sensor error: ``signal``, sampled at 1 kHz, read through a first-order lag of the
+    component's ``lag_s`` (scipy's filter, not the package's operator)."""
+    def sensor_error(values, signals, core):
+        from scipy.signal import lfilter
+        v = np.asarray(signals[signal], dtype=float)
+        a = np.exp(-1e-3 / values['lag_s'])
+        return {signal: lfilter([1 - a], [1, -a], v, zi=[a * v[0]])[0] - v}
+    return staticmethod(sensor_error)
 
 
 class LaggingTransmitterB(Component):
@@ -294,7 +298,7 @@ class LaggingTransmitterB(Component):
 
     name = 'test_lagging_transmitter_b'
     params = (Param('lag_s', 's', 0.01, 1e-4, 1.0, 'time constant'),)
-    sensor_error = staticmethod(_transmitter_lag_b)
+    sensor_error = _first_order_lag('p_b_pa')
 
 
 def test_a_lagging_pressure_transmitter_is_read_as_a_lag_of_its_reading():
@@ -335,19 +339,12 @@ class ColdPlate(Component):
     heat = _cold_plate_hook
 
 
-def _thermocouple_lag(values, signals, core):
-    from scipy.signal import lfilter
-    temp = np.asarray(signals['t_a_k'], dtype=float)
-    a = np.exp(-1e-3 / values['lag_s'])
-    return {'t_a_k': lfilter([1 - a], [1, -a], temp, zi=[a * temp[0]])[0] - temp}
-
-
 class SlowThermocouple(Component):
     """Chamber a's thermocouple reads the gas temperature through a 60 ms lag."""
 
     name = 'test_slow_thermocouple'
     params = (Param('lag_s', 's', 0.06, 1e-4, 10.0, 'time constant'),)
-    sensor_error = staticmethod(_thermocouple_lag)
+    sensor_error = _first_order_lag('t_a_k')
 
 
 def _blocked_record(cls, seed=3):

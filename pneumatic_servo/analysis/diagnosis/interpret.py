@@ -167,25 +167,14 @@ def _temperature(chamber: str, reg: str, c: float) -> str:
         f'{DESCRIPTION[reg]}'
 
 
-def _lag_ms(reading: str, terms: dict) -> float:
-    """The lag [ms] of ``reading`` ('p_a' or 'p_b') its terms add up to, to first order:
-    a coefficient c on a lag of tau is a lag of c tau, one on the rate a lag of -c."""
-    total = -terms.get(f'rate_{reading}', 0.0)
-    for reg, c in terms.items():
-        if reg.startswith('lag_') and reg.endswith(f'ms_{reading}'):
-            total += c * float(reg.split('_')[1].removesuffix('ms')) / 1e3
-    return 1e3 * total
-
-
-def _lagging(what: str, reading: str, terms: dict, cause: str, lag_ms: float | None) -> str:
-    """'the <what> reads through a lag of about N ms ...: <cause>': ``lag_ms``, the one
-    first-order lag closest to the correction over the record, where known; else the lag
-    terms added up to first order (:func:`_lag_ms`)."""
-    how = 'the one lag closest to its lag terms' if lag_ms is not None else \
-        'its lag terms together, to first order'
-    ms = lag_ms if lag_ms is not None else _lag_ms(reading, terms)
-    return (f'the {what} reads through a lag of about {abs(ms):.2g} ms'
-            + (f' ({how}): {cause}' if ms > 0 else ' ahead: a timing error of the sensor'))
+def _lagging(what: str, cause: str, lag_ms: float | None) -> str:
+    """'the <what> reads through a lag of about N ms: <cause>', with ``lag_ms`` the one
+    first-order lag closest to the correction over the record (without it, no number)."""
+    if lag_ms is None:
+        return f'the {what} reads through a lag: {cause}'
+    return (f'the {what} reads through a lag of about {abs(lag_ms):.2g} ms'
+            + (f' (the one lag closest to its lag terms): {cause}' if lag_ms > 0 else
+               ' ahead: a timing error of the sensor'))
 
 
 def _measurement(signal: str, reg: str, c: float, terms: dict, core: dict,
@@ -223,7 +212,7 @@ def _measurement(signal: str, reg: str, c: float, terms: dict, core: dict,
     if reg == f'p_{chamber}':
         return f'the chamber {chamber} transmitter\'s gain is off by {100 * c:+.2f} %'
     if reg.startswith('lag_'):
-        return _lagging(f'chamber {chamber} pressure', f'p_{chamber}', terms,
+        return _lagging(f'chamber {chamber} pressure',
                         'a lag of the transmitter or of the line to it', lag_ms)
     if reg == f'rate_p_{chamber}':
         return (f'the chamber {chamber} pressure reads {1e3 * abs(c):.3g} ms '
