@@ -97,12 +97,17 @@ def estimate_statuses(node: str, estimates: dict) -> list[DiagnosticStatus]:
     return out
 
 
-def health(state: str, report: dict, dropped: int, held: str | None, no_commands: bool
-           ) -> tuple[str, list[str]]:
+#: [s] wall time without a measurement after which the monitor says its verdicts are old
+SILENT_S = 5.0
+
+
+def health(state: str, report: dict, dropped: int, held: str | None, no_commands: bool,
+           silent_s: float = 0.0) -> tuple[str, list[str]]:
     """(level, words) of a working monitor: its lifecycle ``state`` and the judge's
     ``report``; WARN when it decimates, drops or misses samples, cannot simulate a window,
-    sees the plant hold its valve safe (``held``: the plant's words; None: it does not) or gets no
-    valve command (``no_commands``)."""
+    sees the plant hold its valve safe (``held``: the plant's words; None: it does not), gets no
+    valve command (``no_commands``) or has heard no measurement for more than
+    :data:`SILENT_S` (``silent_s`` [s] of wall time, after hearing some)."""
     level, words = 'ok', [f'{state}: {report.get("state", "starting")}']
     counts = report.get('counts', {})
     if report.get('state') == 'baseline':
@@ -125,7 +130,11 @@ def health(state: str, report: dict, dropped: int, held: str | None, no_commands
         (held is not None, f'the plant holds its valve safe ({held}): the commands do not reach it, '
                'those samples are not judged'),
         (no_commands, 'no valve/command: the model cannot be run (a replay needs '
-                      'replay_command:=true)')]
+                      'replay_command:=true)'),
+        # the verdicts stay those of the last data: say so, rather than an OK that looks live
+        (silent_s > SILENT_S, f'no measurement for {silent_s:.0f} s (the plant stopped, or '
+                              'this monitor stopped hearing it): the verdicts are of the data '
+                              'before')]
     for when, text in warnings:
         if when:
             level = 'warn'

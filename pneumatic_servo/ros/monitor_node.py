@@ -85,6 +85,7 @@ class MonitorNode(LifecycleNode):
         self._next_diag = 0.0
         self._last_levels = None
         self.assembler = None
+        self._heard = (0, 0.0)  # (measurements received, wall time [s] the count last grew)
         self.diag_pub = self.create_publisher(DiagnosticArray, common.DIAGNOSTICS,
                                               common.DIAGNOSTICS_QOS)
         if self.p['autostart']:
@@ -394,6 +395,15 @@ class MonitorNode(LifecycleNode):
         arr.status += messages.estimate_statuses(self.get_name(), self.estimates)
         self.diag_pub.publish(arr)
 
+    def _silent_s(self) -> float:
+        """[s] wall time since the last measurement came (0 before the first, or inactive)."""
+        if self.assembler is None or not self.assembler.received['joint_states']:
+            return 0.0
+        count, now = self.assembler.received['joint_states'], monotonic()
+        if count != self._heard[0]:
+            self._heard = (count, now)
+        return now - self._heard[1]
+
     def _node_status(self, extra: str = '') -> DiagnosticStatus:
         rep = self.report or {}
         counts = rep.get('counts', {})
@@ -409,7 +419,8 @@ class MonitorNode(LifecycleNode):
                            and self.assembler.received['commands'] == 0
                            and self.assembler.received['joint_states'] > 0)
             held = self.held_note if getattr(self, 'valve_held', False) else None
-            level, words = messages.health(self.state, rep, dropped, held, no_commands)
+            level, words = messages.health(self.state, rep, dropped, held, no_commands,
+                                           self._silent_s())
         if extra:
             words.insert(0, extra)
         sensors = rep.get('sensors') or {}

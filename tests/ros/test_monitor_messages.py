@@ -12,18 +12,21 @@ from pneumatic_servo.ros.monitor_messages import (
 
 def test_a_quiet_monitor_is_ok():
     assert health('active', {'state': 'judging'}, 0, None, False) == ('ok', ['active: judging'])
+    # a measurement a few seconds ago: still live
+    assert health('active', {'state': 'judging'}, 0, None, False, 4.0)[0] == 'ok'
 
 
 def test_every_reason_for_a_warning_is_said():
     report = {'state': 'judging', 'decimating': True, 'last_error': 'NaN in window 3',
               'counts': {'judged': 10, 'skipped': 5, 'lost': 50, 'samples': 1000},
               'channels': {'angle': {'level': 'warn'}, 'p_a': {'level': 'ok'}}}
-    level, words = health('active', report, 7, 'gate: watchdog', True)
+    level, words = health('active', report, 7, 'gate: watchdog', True, 12.0)
     assert level == 'warn'
     text = '; '.join(words)
     for part in ('active: judging', 'departs in angle', 'DECIMATING: judged 10',
                  'dropped 7 samples', '50 of 1050 samples missing', 'NaN in window 3',
-                 'holds its valve safe (gate: watchdog)', 'no valve/command'):
+                 'holds its valve safe (gate: watchdog)', 'no valve/command',
+                 'no measurement for 12 s'):
         assert part in text, part
     assert 'p_a' not in text
 

@@ -102,7 +102,9 @@ def test_a_healthy_lockstep_run_raises_no_warn_and_the_monitor_never_holds_the_l
           f'missing {node["samples_lost"]}; data up to {data_end - probe.joint[0][0]:.0f} s')
     assert int(node['windows_judged']) >= 100 and judged >= 10, (
         node, statuses(probe, f'{MONITOR}: monitor')[-1][3])
-    assert data_end - probe.joint[0][0] > end_s - 30.0  # judged up to the end of the run
+    # judged up to the end of the run (if not: what the monitor said, and its log)
+    assert data_end - probe.joint[0][0] > end_s - 30.0, (
+        statuses(probe, f'{MONITOR}: monitor')[-1][3], procs.log(mon)[-2000:])
     assert (tmp_path / 'floor.yaml').exists()  # the baseline's floor, saved
 
 
@@ -221,3 +223,7 @@ def test_a_replay_of_the_hidden_effect_bag_warns(procs, probe):
     departed = [m for n, lv, _, m in verdicts(probe) if lv >= WARN]
     print(departed[:3])
     assert all('x the floor' in m for m in departed)
+    # the bag (10 s) over, the monitor says its verdicts are of the data before, not live
+    probe.spin_until(lambda: 'no measurement for' in statuses(probe, f'{MONITOR}: monitor')[-1][3],
+                     60.0, 'the monitor to say it hears nothing')
+    assert statuses(probe, f'{MONITOR}: monitor')[-1][1] == WARN
