@@ -70,6 +70,36 @@ def test_every_equation_offers_the_plain_terms_and_sensors_the_shafts_memory():
     assert BY_EQUATION['valve_input'].states and not BY_EQUATION['moment_balance'].states
 
 
+def test_a_correction_is_said_in_the_words_its_leading_term_carries():
+    """Every term, in every equation it is offered in, is said in its own words (``says``)
+    where it has some, else in the equation's general words; the interpretation dispatches
+    on no term's name (a term's words live on the term)."""
+    import inspect
+    import re
+
+    from pneumatic_servo.analysis.diagnosis import interpret as module
+    from pneumatic_servo.effects.term_words import KINDS
+    assert not re.findall(r"\breg\b\s*(?:==|in\b|\.startswith)", inspect.getsource(module))
+    cfg = ModelConfig.paper()
+    spoken = 0
+    for eq in EQUATIONS:
+        for term in eq.terms:
+            assert set(term.says) <= set(KINDS), term.name
+            text = module.interpret(eq.name, {term.name: -0.3}, cfg)
+            signal = eq.name.removeprefix('measurement_') if 'measurement' in eq.name else ''
+            own = term.explain(module._kind(eq.name), module.Context(
+                -0.3, {term.name: -0.3}, cfg.core, term.words, eq.name[-1], signal))
+            if own:
+                spoken += 1
+                assert own in text, (eq.name, term.name, text)
+            else:
+                assert term.words in text, (eq.name, term.name, text)
+    assert spoken >= 60  # most pairs have words of their own
+    friction = module.interpret('moment_balance', {'sign_velocity_times_mean_pressure': -4e-7},
+                                cfg)
+    assert 'grows with the chambers\' pressure, 0.04 N.m per bar' in friction, friction
+
+
 def test_direction_is_a_play_that_remembers_across_missing_samples():
     v = np.array([0.0, 0.3, 0.6, 0.5, np.nan, 0.4, 0.9])
     d = direction(v, 0.2)

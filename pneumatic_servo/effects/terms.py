@@ -28,12 +28,13 @@ from __future__ import annotations
 
 import math
 import re
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from functools import cached_property
 
 import numpy as np
 
 from .._jit import njit
+from . import term_words as w
 
 #: [rad/s] and [V]: widths over which the direction of motion and the side of the valve
 #: centre change sign (tanh), so that a correction never makes the equations discontinuous
@@ -230,6 +231,10 @@ class Term:
     #: whether the linear screen selects it; a free shape's knots are fitted together, by
     #: the shape stage, never picked one by one
     screened: bool = True
+    #: its words where it leads a correction, per kind of equation
+    #: (:data:`.term_words.KINDS`): a function of a :class:`.term_words.Context` giving a
+    #: sentence, or None where it says nothing particular (the equation's general words)
+    says: dict = field(default_factory=dict, hash=False, compare=False)
 
     @cached_property
     def variables(self) -> list[str]:
@@ -253,84 +258,107 @@ class Term:
         """Whether it needs the command's memory state."""
         return 'command_direction' in self.variables
 
+    def explain(self, kind: str, context: 'w.Context') -> str | None:
+        """Its sentence as the leading term of a correction in an equation of ``kind``, or
+        None (see :attr:`says`)."""
+        words = self.says.get(kind)
+        return words(context) if words is not None else None
+
 
 _FLOWS = ('mass_balance_a', 'mass_balance_b')
 TERMS = (
-    Term('constant', '1', 1.0, 'one (a constant term)', '1.0'),
-    Term('angle', 'rad', 1.6, 'shaft angle', 'angle'),
-    Term('sin_angle', '1', 1.0, 'sine of the shaft angle', 'np.sin(angle)'),
-    Term('cos_angle', '1', 1.0, 'cosine of the shaft angle', 'np.cos(angle)'),
-    Term('velocity', 'rad/s', 2.0, 'shaft speed', 'velocity'),
+    Term('constant', '1', 1.0, 'one (a constant term)', '1.0',
+         says={'torque': w.constant_torque, 'flow': w.constant_flow, 'valve': w.constant_valve,
+               'heat': w.constant_heat, 'reading': w.constant_reading}),
+    Term('angle', 'rad', 1.6, 'shaft angle', 'angle',
+         says={'torque': w.angle_torque, 'flow': w.angle_flow, 'reading': w.angle_reading}),
+    *(Term(f'{f}_angle', '1', 1.0, f'{trig} of the shaft angle', f'np.{f}(angle)',
+           says={'torque': w.trig_torque(trig), 'flow': w.angle_flow})
+      for f, trig in (('sin', 'sine'), ('cos', 'cosine'))),
+    Term('velocity', 'rad/s', 2.0, 'shaft speed', 'velocity',
+         says={'torque': w.velocity_torque, 'flow': w.velocity_flow,
+               'reading': w.velocity_reading}),
     Term('sign_velocity', '1', 1.0, 'direction of motion',
-         f'np.tanh(velocity / {SIGN_VELOCITY_WIDTH})'),
-    Term('p_a', 'Pa', 4e5, 'chamber a pressure (absolute)', 'p_a'),
-    Term('p_b', 'Pa', 4e5, 'chamber b pressure (absolute)', 'p_b'),
-    Term('pressure_difference', 'Pa', 3e5, 'p_a - p_b', '(p_a - p_b)'),
-    Term('command', 'V', 1.0, 'valve command minus its centre (5 V)', 'command'),
+         f'np.tanh(velocity / {SIGN_VELOCITY_WIDTH})', says={'torque': w.coulomb_torque}),
+    *(Term(f'p_{k}', 'Pa', 4e5, f'chamber {k} pressure (absolute)', f'p_{k}',
+           says={'torque': w.chamber_torque(k), 'flow': w.chamber_flow(k),
+                 'valve': w.pressure_driven_valve, 'reading': w.chamber_reading(k)})
+      for k in 'ab'),
+    Term('pressure_difference', 'Pa', 3e5, 'p_a - p_b', '(p_a - p_b)',
+         says={'torque': w.difference_torque, 'flow': w.difference_flow,
+               'valve': w.pressure_driven_valve}),
+    Term('command', 'V', 1.0, 'valve command minus its centre (5 V)', 'command',
+         says={'flow': w.command_flow, 'valve': w.command_valve}),
     Term('sign_command', '1', 1.0, 'side of the valve centre the command is on',
-         f'np.tanh(command / {SIGN_COMMAND_WIDTH})'),
+         f'np.tanh(command / {SIGN_COMMAND_WIDTH})',
+         says={'flow': w.command_flow, 'valve': w.sign_command_valve}),
     Term('abs_command', 'V', 1.0, 'distance of the command from the valve centre',
-         'np.abs(command)'),
-    Term('supply', 'Pa', 7e5, 'supply pressure (absolute)', 'supply'),
-    Term('sqrt_drop_a', 'Pa^0.5', 600.0,
-         'signed square root of p_a - p_atm (an orifice from chamber a to atmosphere)',
-         'signed_sqrt(p_a - p_atm)'),
-    Term('sqrt_drop_b', 'Pa^0.5', 600.0,
-         'signed square root of p_b - p_atm (an orifice from chamber b to atmosphere)',
-         'signed_sqrt(p_b - p_atm)'),
+         'np.abs(command)', says={'flow': w.command_flow, 'valve': w.abs_command_valve}),
+    Term('supply', 'Pa', 7e5, 'supply pressure (absolute)', 'supply',
+         says={'flow': w.supply_flow, 'valve': w.pressure_driven_valve,
+               'reading': w.supply_reading}),
+    *(Term(f'sqrt_drop_{k}', 'Pa^0.5', 600.0,
+           f'signed square root of p_{k} - p_atm (an orifice from chamber {k} to atmosphere)',
+           f'signed_sqrt(p_{k} - p_atm)', says={'flow': w.chamber_flow(k)}) for k in 'ab'),
     Term('sqrt_pressure_difference', 'Pa^0.5', 550.0,
          'signed square root of p_a - p_b (an orifice between the chambers)',
-         'signed_sqrt(p_a - p_b)'),
+         'signed_sqrt(p_a - p_b)', says={'flow': w.difference_flow}),
     # windows over the stroke: where along it the correction acts
     *(Term(f'window_{k}', '1', 1.0, f'a window over part {k + 1} of {N_WINDOWS} of the '
            'stroke', f'window(angle, stroke, {k})',
-           ('moment_balance', 'measurement_angle'), 2) for k in range(N_WINDOWS)),
+           ('moment_balance', 'measurement_angle'), 2,
+           says={'torque': w.window_torque(k, N_WINDOWS),
+                 'reading': w.window_reading(k, N_WINDOWS)}) for k in range(N_WINDOWS)),
     *(Term(f'sqrt_pressure_difference_in_window_{k}', 'Pa^0.5', 550.0,
            f'signed square root of p_a - p_b over part {k + 1} of {N_WINDOWS} of the stroke '
            '(an orifice between the chambers there)',
-           f'signed_sqrt(p_a - p_b) * window(angle, stroke, {k})', _FLOWS, 2)
+           f'signed_sqrt(p_a - p_b) * window(angle, stroke, {k})', _FLOWS, 2,
+           says={'flow': w.windowed_orifice_flow(k, N_WINDOWS)})
       for k in range(N_WINDOWS)),
     # products: friction that grows with the chambers' pressure
     Term('sign_velocity_times_mean_pressure', 'Pa', 3e5,
          'direction of motion times the mean chamber pressure above atmosphere (seal '
          'friction that grows with pressure)',
          f'np.tanh(velocity / {SIGN_VELOCITY_WIDTH}) * (0.5 * (p_a + p_b) - p_atm)',
-         ('moment_balance',), 2),
+         ('moment_balance',), 2, says={'torque': w.pressure_friction_torque}),
     Term('sign_velocity_times_pressure_difference', 'Pa', 3e5,
          'direction of motion times p_a - p_b (friction that grows with the load)',
-         f'np.tanh(velocity / {SIGN_VELOCITY_WIDTH}) * (p_a - p_b)', ('moment_balance',), 2),
+         f'np.tanh(velocity / {SIGN_VELOCITY_WIDTH}) * (p_a - p_b)', ('moment_balance',), 2,
+         says={'torque': w.load_friction_torque}),
     Term('sign_velocity_times_abs_pressure_difference', 'Pa', 3e5,
          'direction of motion times |p_a - p_b| (friction that grows with the load, whichever '
          'way it pushes)',
          f'np.tanh(velocity / {SIGN_VELOCITY_WIDTH}) * np.abs(p_a - p_b)', ('moment_balance',),
-         2),
+         2, says={'torque': w.abs_load_friction_torque}),
     # memory
     Term('command_direction', '1', 1.0, 'direction in which the command last moved '
-         '(hysteresis)', 'command_direction', ('valve_input',) + _FLOWS, 2),
+         '(hysteresis)', 'command_direction', ('valve_input',) + _FLOWS, 2,
+         says={'flow': w.hysteresis_flow, 'valve': w.hysteresis_valve}),
     Term('motion_direction', '1', 1.0, 'direction in which the shaft last moved (play)',
-         'motion_direction', ('measurement_angle',), 2),
+         'motion_direction', ('measurement_angle',), 2, says={'reading': w.play_reading}),
     # a free shape over the stroke: where no closed form fits (the shape stage)
     *(Term(f'angle_shape_{k}', '1', 1.0, f'knot {k + 1} of {N_KNOTS} of a free shape over '
            'the stroke', f'hat(angle, stroke, {k})', ('moment_balance', 'measurement_angle'),
            screened=False) for k in range(N_KNOTS)),
     # dynamics of a sensor: a lag of tau reads, to first order, -tau times the rate
-    Term('rate_p_a', 'Pa/s', 2e6, 'rate of change of p_a (a lagging transmitter)',
-         'p_a_rate', ('measurement_p_a',)),
-    Term('rate_p_b', 'Pa/s', 2e6, 'rate of change of p_b (a lagging transmitter)',
-         'p_b_rate', ('measurement_p_b',)),
+    *(Term(f'rate_p_{k}', 'Pa/s', 2e6, f'rate of change of p_{k} (a lagging transmitter)',
+           f'p_{k}_rate', (f'measurement_p_{k}',), says={'reading': w.pressure_rate_reading})
+      for k in 'ab'),
     # the energy balances and temperature readings (records that hold the temperatures)
     *(Term(f'wall_minus_t_{k}', 'K', 20.0, f'wall temperature minus the chamber {k} gas '
-           'temperature (heat through its wall)', f'(t_wall - t_{k})', (f'energy_balance_{k}',))
-      for k in 'ab'),
+           'temperature (heat through its wall)', f'(t_wall - t_{k})', (f'energy_balance_{k}',),
+           says={'heat': w.wall_heat}) for k in 'ab'),
     *(Term(f't_{k}', 'K', 300.0, f'chamber {k} gas temperature', f't_{k}',
-           (f'measurement_t_{k}',)) for k in 'ab'),
+           (f'measurement_t_{k}',), says={'reading': w.temperature_reading}) for k in 'ab'),
     *(Term(f'rate_t_{k}', 'K/s', 50.0, f'rate of change of T_{k} (a lagging temperature '
-           'sensor)', f't_{k}_rate', (f'measurement_t_{k}',)) for k in 'ab'),
+           'sensor)', f't_{k}_rate', (f'measurement_t_{k}',),
+           says={'reading': w.temperature_rate_reading}) for k in 'ab'),
     # a reading through a first-order lag at fixed time constants (a memory of the reading;
     # the rates above are its first order)
     *(Term(f'lag_{1e3 * tau:.0f}ms_{v}', _READINGS[v][2], tau * _READINGS[v][1],
            f'{v} through a first-order lag of {1e3 * tau:.0f} ms, minus {v} (a sensor that '
-           'reads late)', f'({v}_lag_{1e3 * tau:.0f}ms - {v})', (f'measurement_{v}',), 2)
+           'reads late)', f'({v}_lag_{1e3 * tau:.0f}ms - {v})', (f'measurement_{v}',), 2,
+           says={'reading': w.lag_reading})
       for v, taus in LAGS_S.items() for tau in taus),
 )
 BY_NAME = {t.name: t for t in TERMS}
