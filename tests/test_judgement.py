@@ -5,14 +5,18 @@ other sample rates, sensor grades, encoders, controllers and integrators).
 The full false-alarm and power study is ``benchmarks/bench_judgement.py``; this is its small
 version.
 """
+from dataclasses import replace
+
 import numpy as np
 import pytest
 
 from pneumatic_servo.analysis.diagnosis import DiagnoseOptions, diagnose
 from pneumatic_servo.analysis.diagnosis.criteria import Levels, Status, gain_p_value
 from pneumatic_servo.analysis.diagnosis.floor import Floor, quantum
+from pneumatic_servo.analysis.diagnosis.candidates import screen_effect, try_effect
 from pneumatic_servo.analysis.diagnosis.discovery import Discovered
 from pneumatic_servo.analysis.diagnosis.pipeline import look_for_terms
+from pneumatic_servo.analysis.diagnosis.refit import restarted
 from pneumatic_servo.analysis.diagnosis.status import best_generic, clearly_better
 from pneumatic_servo.analysis.diagnosis.verdict import rank
 from pneumatic_servo.analysis.diagnosis.scoring import Score
@@ -67,26 +71,34 @@ def test_a_whole_answer_is_judged_with_its_fits_scatter():
     assert fixed.departs  # the same remainder against the floor of fixed values
 
 
-def test_a_generic_term_must_beat_a_named_effect_by_more_than_its_fits_scatter():
-    """A load torque of 0.7 x the example size: a generic constant torque, fitted by the
-    discovery, lands nearer the truth than the named effect's fit (4 % off) and beats it on
-    the held-out data. By more than the scatter of the named effect's own fit it does not,
-    so the torque is the whole answer, not a partial fit."""
+def test_a_generic_term_must_beat_a_named_effect_fitted_where_its_own_cost_is_lowest():
+    """A load torque of 0.7 x the example size (0.175 N.m): on the rough stick-slip cost the
+    named effect's fit can stop in a local minimum a few per cent off (from 0.182 N.m it
+    polishes to about 0.183), where a generic constant torque, fitted from another start,
+    lands at 0.177 and beats it clearly on the held-out data. Restarted either side of its
+    values, the named fit lands lower on its own fit cost, near the truth, and the generic
+    no longer beats it: the torque is the whole answer, not a partial fit."""
+    key = 'external_load_torque.load_torque_n_m'
     values = {k: 0.7 * v for k, v in example_values('external_load_torque').items()}
     rec = Record('closed_steps', 500.0, 10.0, effects={'external_load_torque': values},
                  seed=53)
     result = diagnose([make_record(rec)])
     assert result.status == Status.EXPLAINED, result.reason
     assert result.verdict == 'external_load_torque'
-    # the generic corrections the diagnosis ranked beside the named effects (an explained
-    # status does not report them): the same discovery, ranked jointly as diagnose does
     trial = result.trial
+    named = next(c for c in result.ranking if c.effect == 'external_load_torque')
+    assert abs(named.params[key] / 0.175 - 1.0) < 0.02, named.params
+    # the poor landing, and the restart out of it: the generic corrections the diagnosis
+    # ranked beside the named effects (an explained status does not report them)
     joint = rank(result.ranking + look_for_terms(trial, trial.base), trial)
     found = best_generic(trial, [c for c in joint if isinstance(c, Discovered)])
-    named = next(c for c in joint if c.effect == 'external_load_torque')
-    assert found is not None and clearly_better(trial, found, named)
-    assert not clearly_better(trial, found, named, result.remainder)
-    assert result.remainder.floor.refit_factor() > 1.0
+    screen = screen_effect('external_load_torque', trial.base, trial.data)
+    stuck = try_effect(replace(screen, start={key: 0.182}), trial.base, trial.data,
+                       list(trial.free), trial.options, bracket=False)
+    assert stuck.params[key] > 0.18 and clearly_better(trial, found, stuck), stuck.params
+    again = restarted(trial, stuck)
+    assert abs(again.params[key] - 0.175) < abs(stuck.params[key] - 0.175) - 0.002, again.params
+    assert not clearly_better(trial, found, again)
 
 
 def test_floor_test_has_its_stated_false_alarm_rate():

@@ -268,11 +268,13 @@ def _cannot_simulate(name: str, model: Model, config: ModelConfig, data: Data) -
 
 
 def try_effect(screen: Screen, base: Baseline, data: Data, free: list[str],
-               options: DiagnoseOptions, full_fit: bool = True) -> Candidate:
+               options: DiagnoseOptions, full_fit: bool = True, bracket: bool = True
+               ) -> Candidate:
     """Fit the screened effect (and ``free`` base keys) on the fit parts, score it held out.
 
     With ``full_fit=False`` the best grid point of the screen is scored as it
-    is (a candidate screened out: no standard errors).
+    is (a candidate screened out: no standard errors). Without ``bracket`` the fit polishes
+    from the screen's start (a start known to lie in the right basin).
     """
     t0 = time.perf_counter()
     name, keys = screen.name, screen.keys
@@ -281,7 +283,7 @@ def try_effect(screen: Screen, base: Baseline, data: Data, free: list[str],
     undetermined = {}
     if full_fit:
         result = fit_parameters(screen.model, host, keys + [k for k in free if k not in keys],
-                                data, options)
+                                data, options, bracket)
         fitted, stderr = result.config, result.stderr
         at_bound, corr, converged = result.at_bound, result.correlation, result.converged
         undetermined = {k: why_undetermined(fitted, k, result.identifiability.reason(k), data)

@@ -54,11 +54,11 @@ from .discovery import Discovered, discover
 from .hosts import shared_host
 from .ladder import ladder
 from .options import DiagnoseOptions
-from .refit import remainder
+from .refit import remainder, restarted
 from .result import Diagnosis, added_by
 from .scoring import relative_fall
 from .shape import fit_shape
-from .status import Pair, best_named, clearly_better, decide, needs_pair
+from .status import Pair, best_generic, best_named, clearly_better, decide, needs_pair
 from .trial import Trial, floor_for
 from .validation import score_on, validate
 from .verdict import rank
@@ -165,6 +165,7 @@ def diagnose(experiments: list[Experiment], config: ModelConfig | None = None,
         joint = rank(ranking + found, trial)
         ranking = [c for c in joint if not isinstance(c, Discovered)]
         found = [c for c in joint if isinstance(c, Discovered)]
+    ranking, found = timed('restart', settled, trial, ranking, found)
     first = best_named(trial, ranking)
     left = timed('floor_of_verdict', remainder, trial, first, found) if first else None
     asked = needs_pair(trial, ranking, found, left)
@@ -215,6 +216,22 @@ def make_trial(data: Data, base: Baseline, free: tuple[str, ...], options: Diagn
     tries = named + (options.discovery_fits if options.discover else 0)
     levels = Levels.of(options.false_alarm_rate, len(floor.series_channels), tries)
     return Trial(data, base, free, options, data.noise(Model(host), host), floor, levels)
+
+
+def settled(trial: Trial, ranking: list[Candidate], found: list) -> tuple[list, list]:
+    """(ranking, found), where a generic correction clearly beats the first named effect:
+    that effect's fit restarted either side of its values (:func:`.refit.restarted`) and,
+    where it landed lower, everything ranked again with it."""
+    first = best_named(trial, ranking)
+    generic = best_generic(trial, found)
+    if first is None or generic is None or not clearly_better(trial, generic, first):
+        return ranking, found
+    again = restarted(trial, first)
+    if again is first:
+        return ranking, found
+    joint = rank([again if c is first else c for c in ranking] + found, trial)
+    return ([c for c in joint if not isinstance(c, Discovered)],
+            [c for c in joint if isinstance(c, Discovered)])
 
 
 def named_candidates(trial: Trial, names: list[str], progress=None) -> list[Candidate]:
