@@ -74,7 +74,9 @@ def test_identify_gives_the_recorded_numbers(tmp_path):
     Re-recorded again (issue 15's session) at the landed commit 8123f34 itself, in the fresh
     environment the README's set-up installs today (numpy 2.4, scipy 1.17): with no change
     of the package, the friction fit had moved by 1.2e-9 and its standard errors by 3e-8
-    relative against the files recorded under the earlier libraries."""
+    relative against the files recorded under the earlier libraries. It was the machine, not
+    the libraries: a later session's machine, with those libraries, gave the earlier value
+    again to the last digit. So the numbers agree to :data:`SAME_NUMBERS_REL`."""
     runs = {'identify.json': ('stribeck_friction.coulomb_friction_n,'
                               'stribeck_friction.viscous_friction_n_s_per_rad',
                               'bags/sine_2hz', 'open_loop'),
@@ -96,8 +98,17 @@ def test_identify_gives_the_recorded_numbers(tmp_path):
             assert ref_new['rms'][ch] <= rms * 1.01, ch
 
 
+#: how closely the paper's procedures must give the recorded numbers: their least squares
+#: are ill-conditioned (the Stribeck velocity), and the two kinds of machine CI runs on give,
+#: with the same code and libraries, values 1.2e-9 and standard errors 3e-8 apart (the value
+#: recorded before bc2ef81, re-recorded there as a change of libraries, came back on this
+#: session's machine); a change of behaviour moves them by far more
+SAME_NUMBERS_REL = 1e-7
+
+
 def assert_same_numbers(new, old, where: str):
-    """Nested dicts and lists of the same shape whose numbers agree to 1e-9."""
+    """Nested dicts and lists of the same shape whose numbers agree to
+    :data:`SAME_NUMBERS_REL`."""
     if isinstance(old, dict):
         assert set(new) == set(old), where
         for key in old:
@@ -107,7 +118,7 @@ def assert_same_numbers(new, old, where: str):
         for i, (a, b) in enumerate(zip(new, old)):
             assert_same_numbers(a, b, f'{where}[{i}]')
     elif isinstance(old, float):
-        assert new == pytest.approx(old, rel=1e-9), where
+        assert new == pytest.approx(old, rel=SAME_NUMBERS_REL), where
     else:
         assert new == old, where
 
