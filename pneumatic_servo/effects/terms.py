@@ -180,6 +180,8 @@ class Variable:
     signal: str = ''
     atmospheric: bool = False
     room: bool = False
+    #: [s] the time constant of the first-order lag its signal is read through (None: none)
+    lag_s: float | None = None
 
 
 VARIABLES = (
@@ -200,7 +202,7 @@ VARIABLES = (
     Variable('p_b_rate', None, "rate(signals['p_b_pa'], signals.get('t_s'))", 'p_b_pa'),
     *(Variable(f'{v}_lag_{1e3 * tau:.0f}ms', None,
                f"lag(signals['{_READINGS[v][0]}'], signals.get('t_s'), {tau})",
-               _READINGS[v][0], True)
+               _READINGS[v][0], True, lag_s=tau)
       for v, taus in LAGS_S.items() for tau in taus),
     # the gas temperatures, where a record holds them (the energy balances)
     Variable('t_a', 'x[T_A]', "signals['t_a_k']", 't_a_k', room=True),
@@ -257,6 +259,18 @@ class Term:
     def memory(self) -> bool:
         """Whether it needs the command's memory state."""
         return 'command_direction' in self.variables
+
+    @property
+    def lag_s(self) -> float | None:
+        """[s] The time constant of the first-order lag of a reading it holds, if any."""
+        return next((BY_VARIABLE[v].lag_s for v in self.variables if BY_VARIABLE[v].lag_s),
+                    None)
+
+    def dynamics_of(self, reading: str) -> bool:
+        """Whether it writes the dynamics of variable ``reading``: another variable read from
+        the same signal (its rate, a lag or a play of it)."""
+        signal = BY_VARIABLE[reading].signal
+        return any(v != reading and BY_VARIABLE[v].signal == signal for v in self.variables)
 
     def explain(self, kind: str, context: 'w.Context') -> str | None:
         """Its sentence as the leading term of a correction in an equation of ``kind``, or

@@ -2,8 +2,9 @@
 score of the best."""
 from __future__ import annotations
 
+import math
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -174,14 +175,18 @@ class Screen:
     seconds: float
 
 
+def placed(name: str, base: Baseline, start: dict[str, float]) -> Screen:
+    """Effect ``name`` added to the baseline, to be fitted from ``start`` (no grid tried)."""
+    host = host_for(base.config, name)
+    return Screen(name, host, Model(host), fitted_keys(name), start, math.nan, 0.0)
+
+
 def screen_effect(name: str, base: Baseline, data: Data) -> Screen:
     """Add effect ``name`` to the baseline and try a coarse grid of its parameters."""
     t0 = time.perf_counter()
-    host = host_for(base.config, name)
-    model = Model(host)
-    keys = fitted_keys(name)
-    start, cost = start_values(keys, host, model, data)
-    return Screen(name, host, model, keys, start, cost, time.perf_counter() - t0)
+    bare = placed(name, base, {})
+    start, cost = start_values(bare.keys, bare.host, bare.model, data)
+    return replace(bare, start=start, cost=cost, seconds=time.perf_counter() - t0)
 
 
 @dataclass(frozen=True)

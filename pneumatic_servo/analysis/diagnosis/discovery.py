@@ -131,10 +131,11 @@ def equivalent_lag_ms(equation: str, terms: dict[str, float], data: Data, core: 
     sum is far off where a coefficient is far from one: a 20 ms lag at 0.71 and a rate
     read 15.8 ms for a transmitter's 8 ms, this reads 9.4 ms."""
     reading = equation.removeprefix('measurement_')
-    lags = [r for r in terms if r.startswith('lag_') and r.endswith(f'ms_{reading}')]
-    if not lags:
+    if reading not in BY_VARIABLE:
         return None
-    dynamic = lags + [r for r in terms if r == f'rate_{reading}']
+    dynamic = [r for r in terms if TERMS[r].dynamics_of(reading)]
+    if not any(TERMS[r].lag_s for r in dynamic):
+        return None
     signal = BY_VARIABLE[reading].signal
     cases = []  # (reading, its times, what the terms add to it) of each time series
     for e in data.experiments:

@@ -37,7 +37,7 @@ import numpy as np
 from ...errors import SimulationError
 from ...fitting.problem import with_values
 from ...model.assembly import Model
-from .candidates import Candidate, fit_parameters, screen_effect, try_effect
+from .candidates import Candidate, fit_parameters, placed, screen_effect, try_effect
 from .criteria import Departures
 from .floor import replica_data
 from .hosts import fitted_on
@@ -55,7 +55,7 @@ def restarted(trial, cand: Candidate) -> Candidate:
     """Named effect ``cand`` with its fit polished again from starts either side of each
     fitted value (:data:`RESTART_STEPS`), where one lands lower on the fit parts' cost than
     its own values polished again; else ``cand`` itself."""
-    screen = screen_effect(cand.effect, trial.base, trial.data)
+    screen = placed(cand.effect, trial.base, cand.params)
     keys = list(cand.params)
     free = list(trial.free)
 
