@@ -330,6 +330,7 @@ CASES = [
     ('simulate_onto_existing', ['simulate', SINE, '--out', F('a_file')], 'exists', []),
     ('false_alarm_rate_above_1', ['diagnose', SINE, '--false-alarm-rate', '2'],
      '--false-alarm-rate', []),
+    ('too_few_replicas', ['diagnose', SINE, '--replicas', '2'], '--replicas', []),
     # 13: hangs that became one line
     (F('fifo_csv'), ['compare', F('fifo_csv')], 'named pipe', []),
     ('fifo_metadata', ['compare', F('fifo_meta_bag')], 'named pipe', []),

@@ -238,6 +238,17 @@ def test_a_record_with_gas_temperatures_is_diagnosed(tmp_path):
     assert data['status'] in ('consistent', 'explained', 'partly_explained', 'unexplained')
 
 
+def test_the_floor_is_measured_on_as_many_replicas_as_asked(tmp_path):
+    """``--replicas`` buys power for time (docs/diagnosis.md): the floor the record is
+    judged against is measured on that many replicas, and the JSON says so."""
+    proc = _cli('diagnose', DATA / 'none' / 'sine', '--effects', 'external_leakage',
+                '--replicas', '6', '--json', tmp_path / 'd.json', '--quiet', cwd=tmp_path)
+    assert proc.returncode == 0, proc.stderr
+    data = json.loads((tmp_path / 'd.json').read_text())
+    assert data['options']['replicas'] == 6
+    assert data['floor']['replicas'] == 6
+
+
 @pytest.mark.parametrize('args, words', [
     (['diagnose', 'no_such_bag'], 'no_such_bag'),
     (['diagnose', DATA / 'none' / 'sine', '--effects', 'no_such_effect'], 'no_such_effect'),

@@ -18,7 +18,7 @@ from pathlib import Path
 
 from ..analysis.diagnosis import DiagnoseOptions, apply, diagnose, text
 from ..analysis.diagnosis.emit import class_name, effect_source
-from ..analysis.diagnosis.options import FALSE_ALARM_RATE
+from ..analysis.diagnosis.options import FALSE_ALARM_RATE, REPLICAS
 from ..analysis.diagnosis_report import write_diagnosis_report
 from ..errors import ConfigError
 from ..io import read_experiment
@@ -26,7 +26,7 @@ from ..jsonable import dumps
 from ..model.config import ModelConfig
 from ..prediction import DIAGNOSIS_HORIZON_S
 from ..text import comma_list
-from .options import fraction, output_dir, output_file, positive_seconds
+from .options import fraction, number, output_dir, output_file, positive_seconds
 
 
 def add_parser(sub) -> argparse.ArgumentParser:
@@ -59,6 +59,10 @@ def add_parser(sub) -> argparse.ArgumentParser:
     p.add_argument('--false-alarm-rate', type=fraction, default=FALSE_ALARM_RATE,
                    metavar='F', help='probability that a record of a correct model is called '
                    f'anything but consistent (default {FALSE_ALARM_RATE:g})')
+    p.add_argument('--replicas', type=number(4, 1000, integer=True), default=REPLICAS,
+                   metavar='N', help='replicas of the records simulated to measure their '
+                   'prediction floor: more make the departure test more powerful at the '
+                   f'same false-alarm rate, and the run slower (default {REPLICAS})')
     p.add_argument('--quiet', action='store_true', help='print only the verdict')
     p.set_defaults(run=run)
     return p
@@ -70,7 +74,8 @@ def run(args) -> int:
     if not 0.0 < args.false_alarm_rate < 1.0:
         raise ConfigError('--false-alarm-rate must be between 0 and 1, e.g. 0.01')
     options = DiagnoseOptions(horizon_s=args.horizon or DIAGNOSIS_HORIZON_S,
-                              false_alarm_rate=args.false_alarm_rate)
+                              false_alarm_rate=args.false_alarm_rate,
+                              replicas=args.replicas)
     say = (lambda *a: None) if args.quiet else print
 
     def progress(c):
