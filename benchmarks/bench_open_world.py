@@ -6,7 +6,8 @@ real-time stepper's fixed-step RK4, not the predictor's integrator).
 For each record it prints the status, any named verdict, and the best generic correction:
 its equation, its leading term and whether that is the right equation, the right dependence
 (the variables the leading term is a function of) and the right closed form (see
-``open_world_set``). Then the three hit rates beside the target (80 % for equation and
+``open_world_set``); and whether the right dependence is said at all: led, or among the
+readings said to fit as well (``fits_as_well``), which the records cannot tell apart. Then the three hit rates beside the target (80 % for equation and
 dependence) and the count of confident wrong names (target 0), with the machine's load.
 
 Run: ``.venv/bin/python benchmarks/bench_open_world.py [--only NAME] [--json PATH]``.
@@ -72,7 +73,8 @@ def judge(cls, result) -> dict:
            and result.status in ('explained', 'partly_explained')}
     if not result.discovered:
         return {**out, 'equation': None, 'leading': None, 'right_equation': False,
-                'right_dependence': False, 'right_closed_form': False}
+                'right_dependence': False, 'right_closed_form': False,
+                'right_dependence_said': False}
     best = result.discovered[0]
     lead = best.leading
     variables = set(BY_NAME[lead].depends_on)
@@ -82,15 +84,19 @@ def judge(cls, result) -> dict:
         closed = 'no closed form the search found fits' in result.reason
     if closed and 'window_' in lead:  # a window must also be in the right place
         closed = _overlaps(lead, getattr(cls, 'where_rad', None), result)
+    said = [set(BY_NAME[t].depends_on) for t in (lead, *best.fits_as_well)]
     return {**out, 'equation': best.equation, 'leading': lead, 'terms': best.terms,
             'interpretation': best.interpretation, 'right_equation': right_eq,
             'right_dependence': right_eq and variables in cls.depends,
-            'right_closed_form': right_eq and closed}
+            'right_closed_form': right_eq and closed,
+            'fits_as_well': list(best.fits_as_well),
+            'right_dependence_said': right_eq and any(v in cls.depends for v in said)}
 
 
 def summary(rows: list[dict]) -> dict:
     """Print and return the rates: over every record, and over the detected ones."""
-    keys = ('detected', 'right_equation', 'right_dependence', 'right_closed_form')
+    keys = ('detected', 'right_equation', 'right_dependence', 'right_closed_form',
+            'right_dependence_said')
     detected = [r for r in rows if r['detected']]
     rates = {k: sum(r[k] for r in rows) / len(rows) for k in keys}
     given = {k: sum(r[k] for r in detected) / max(len(detected), 1) for k in keys[1:]}
@@ -98,6 +104,8 @@ def summary(rows: list[dict]) -> dict:
     print(f'\n{len(rows)} records ({len(detected)} detected), load {os.getloadavg()[0]:.1f}')
     for k in keys:
         target = f'target {TARGET:.0%}' if k in keys[1:3] else 'no target'
+        if k == 'right_dependence_said':
+            target += ': the leading term or one said to fit as well'
         extra = f'   {given[k]:4.0%} of the detected' if k in given else ''
         print(f'  {k:<18} {rates[k]:5.0%}{extra}  ({target})')
     print(f'  confident wrong names: {wrong} (target 0)')
@@ -123,7 +131,8 @@ def main(argv=None) -> int:
             row['seconds'] = time.perf_counter() - t0
             rows.append(row)
             marks = ''.join('x' if row[k] else '.' for k in
-                            ('right_equation', 'right_dependence', 'right_closed_form'))
+                            ('right_equation', 'right_dependence', 'right_closed_form',
+                             'right_dependence_said'))
             print(f"{cls.__name__:<24} {loop:<12} {rec.integrator:<9} {row['status']:<17} "
                   f"{row['verdict']:<20} {str(row['equation']):<20} {str(row['leading']):<36} "
                   f"{marks} {row['seconds']:4.0f} s", flush=True)

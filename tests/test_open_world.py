@@ -6,6 +6,7 @@ loop and open loop, through the realistic sensors of the generator, with each ef
 registered only while its data are made.
 """
 import json
+import math
 import os
 import subprocess
 import sys
@@ -18,7 +19,7 @@ from pneumatic_servo import effects as registry
 from pneumatic_servo.analysis.diagnosis import DiagnoseOptions, diagnose
 from pneumatic_servo.analysis.diagnosis.interpret import leading
 from pneumatic_servo.effects import Component, Param
-from pneumatic_servo.effects.layout import C_QA, C_TORQUE, T_A, THETA
+from pneumatic_servo.effects.layout import C_QA, C_TORQUE, OMEGA, P_A, P_B, T_A, THETA
 from pneumatic_servo.synth.hidden import make_hidden_set
 from pneumatic_servo.synth.unlisted import EXPECTED, unlisted_data
 
@@ -410,3 +411,43 @@ def test_a_heat_flow_is_found_in_the_energy_balance_and_only_where_temperatures_
                           False, exp.metadata)
     names = [eq.name for eq in seen_equations(Data.of([blind], DiagnoseOptions()))]
     assert not {'energy_balance_a', 'energy_balance_b'} & set(names)
+
+
+# ------------------------------------------------------- two readings the records cannot tell
+def _gear_friction_hook(t, x, s, p, P, c, dx):
+    c[C_TORQUE] -= p[0] * abs(x[P_A] - x[P_B]) * math.tanh(x[OMEGA] / 0.005)
+
+
+class LoadedGearFriction(Component):
+    """Gear friction that grows with the transmitted load |p_a - p_b|."""
+
+    name = 'test_loaded_gear_friction'
+    params = (Param('torque_per_pa', 'N.m/Pa', 5e-7, 0.0, 1e-4, 'friction per Pa of load'),)
+    mechanics = _gear_friction_hook
+
+
+def test_a_reading_the_records_cannot_tell_from_the_chosen_one_is_said_beside_it():
+    """On an open-loop chirp the load drives the motion nearly all the time, so a friction
+    that grows with |p_a - p_b| reads as a piston torque a few per cent smaller: the
+    simpler reading leads, and the one that fits as well or better is said beside it, in
+    its own words and under ``fits_as_well``, with what would tell them apart."""
+    from pneumatic_servo.effects.terms import BY_NAME
+    from pneumatic_servo.synth.varied import Record, make_record
+    registry.register(LoadedGearFriction)
+    try:
+        exp = make_record(Record('chirp', 500.0, 10.0, integrator='rk4', seed=8, effects={
+            LoadedGearFriction.name: {'torque_per_pa': 5e-7}}))
+    finally:
+        registry._REGISTRY.pop(LoadedGearFriction.name, None)
+    result = diagnose([exp])
+    assert result.verdict == 'none', result.reason
+    best = result.discovered[0]
+    assert best.equation == 'moment_balance', result.reason
+    readings = [best.leading, *best.fits_as_well]
+    assert best.fits_as_well and 'sign_velocity_times_abs_pressure_difference' in readings, \
+        best.interpretation
+    for term in best.fits_as_well:
+        assert set(BY_NAME[term].depends_on) != set(BY_NAME[best.leading].depends_on)
+        assert best.fits_as_well[term] in best.interpretation
+    assert 'would tell them apart' in best.interpretation
+    assert best.to_json()['fits_as_well'] == best.fits_as_well

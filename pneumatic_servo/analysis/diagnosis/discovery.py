@@ -80,6 +80,9 @@ class Discovered(Candidate):
     #: of the correction's variation it follows alone [0..1] (:func:`term_spread`)
     sizes: dict = field(default_factory=dict)
     shares: dict = field(default_factory=dict)
+    #: leading term -> interpretation of corrections of other variables that these records
+    #: fit as well (:func:`alike`)
+    fits_as_well: dict = field(default_factory=dict)
 
     @property
     def terms(self) -> dict[str, float]:
@@ -96,7 +99,7 @@ class Discovered(Candidate):
                 'stderr': stderr, 'error_reduction': self.error_reduction,
                 'interpretation': self.interpretation,
                 'screened_reduction': self.screened_reduction, 'term_sizes': self.sizes,
-                'term_shares': self.shares}
+                'term_shares': self.shares, 'fits_as_well': dict(self.fits_as_well)}
 
 
 def term_spread(terms: dict[str, float], data: Data, core: dict
@@ -187,6 +190,12 @@ class ScreenedEquation:
     #: the term that fits best alone; fitted through the simulator, it replaces the set
     #: above only where it explains clearly more (a marginal gain picks spurious sets)
     other: ScreenedEquation | None = None
+    #: the elaboration of a plain leading term (a product of its variables with others,
+    #: :func:`_elaborations`) that the screen found closer held out, before its extra cost:
+    #: a friction that grows with the load |p_a - p_b| reads, where the load drives the
+    #: motion, as a smaller piston torque; both are fitted through the simulator, and where
+    #: they are not told apart both are said (:func:`alike`)
+    richer: ScreenedEquation | None = None
 
 
 def _residuals(model, host, keys, values, parts) -> list[np.ndarray]:
@@ -269,6 +278,20 @@ def _elaborations(lead: int, block: list[int], terms) -> list[int]:
     Coulomb friction there, and clearly above it once refined."""
     seed = set(terms[lead].depends_on)
     return [j for j in block if terms[j].cost > 1 and seed and seed < set(terms[j].depends_on)]
+
+
+def _richer(lead, first: int, block: list[int], terms, costs, base_val: float,
+            n_eff: float) -> tuple:
+    """The refined elaboration of term ``first`` that leaves less held out than it (as a
+    path: columns, coefficients, held-out RSS, BIC), or an empty path."""
+    def rss(j):
+        return float(lead[j][2] @ lead[j][2])
+    closer = [j for j in _elaborations(first, block, terms) if j in lead and rss(j) < rss(first)]
+    if not closer:
+        return [], np.zeros(0), base_val, 0.0
+    j = min(closer, key=rss)
+    return ([j], np.array([lead[j][0]]), rss(j),
+            information_criteria(base_val, rss(j), costs[j], n_eff)[1])
 
 
 def _secant(c, r, c0, r0, lower, upper) -> float:
@@ -381,6 +404,9 @@ def screen_terms(base: Baseline, data: Data, n_eff: float, options: DiagnoseOpti
             continue
         if any(TERMS[t].cost > 1 for t in terms_of(best.start)):
             best = replace(best, plain=select([j for j in block if costs[j] == 1]))
+        else:
+            best = replace(best, richer=screened(_richer(lead, path[0][0], block, terms,
+                                                         costs, base_val, n_eff)))
         other = _from_other_starts(lead, S_fit, S_val, block, costs, base_val, n_eff,
                                    options.max_terms, path[0][0])
         if other is not None and set(other[0]) != set(path[0]):
@@ -428,6 +454,31 @@ def confirm(screened: ScreenedEquation, host: ModelConfig, model: Model, base: B
     return found
 
 
+def alike(found: list[Discovered], base: Baseline, n_eff: float) -> Discovered:
+    """The best of one equation's corrections by held-out BIC (each term counted at its
+    :attr:`Term.cost`: the simpler is preferred). Where another, led by a term of other
+    variables, fits the held-out data as well or better (BIC within :data:`BIC_TIE` or
+    lower, counting one
+    parameter per coefficient: the cost is a preference, not evidence), the records do
+    not tell the two apart, and the interpretation says both (the other is kept under
+    ``fits_as_well``)."""
+    def bic(d, k):
+        return information_criteria(base.score.overall ** 2, d.score.overall ** 2, k,
+                                    n_eff)[1]
+    best = min(found, key=lambda d: bic(d, d.n_params))
+    same = set(TERMS[best.leading].depends_on)
+    tied = {d.leading: d.interpretation for d in found
+            if bic(d, len(d.params)) - bic(best, len(best.params)) <= BIC_TIE
+            and set(TERMS[d.leading].depends_on) != same}
+    if not tied:
+        return best
+    words = '; or '.join(tied.values())
+    return replace(best, fits_as_well=tied, interpretation=(
+        f'{best.interpretation}; or, as well or better on these records, {words} (held-out '
+        f'BIC within {BIC_TIE:g} or lower: a record that excites one and not the other would '
+        'tell them apart)'))
+
+
 def discover(base: Baseline, data: Data, free: list[str], n_eff: float,
              options: DiagnoseOptions, clearly_better=None) -> list[Discovered]:
     """Generic corrections of the baseline, screened and the best ``discovery_fits``
@@ -438,9 +489,8 @@ def discover(base: Baseline, data: Data, free: list[str], n_eff: float,
     out = []
     for s in screened[:options.discovery_fits]:
         found = [confirm(c, host, model, base, data, free, options)
-                 for c in (s, s.plain) if c is not None]
-        best = min(found, key=lambda d: information_criteria(
-            base.score.overall ** 2, d.score.overall ** 2, d.n_params, n_eff)[1])
+                 for c in (s, s.plain, s.richer) if c is not None]
+        best = alike(found, base, n_eff)
         if s.other is not None and clearly_better is not None:
             other = confirm(s.other, host, model, base, data, free, options)
             best = other if clearly_better(other, best) else best
