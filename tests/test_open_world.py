@@ -430,7 +430,7 @@ def test_a_reading_the_records_cannot_tell_from_the_chosen_one_is_said_beside_it
     """On an open-loop chirp the load drives the motion nearly all the time, so a friction
     that grows with |p_a - p_b| reads as a piston torque a few per cent smaller: the
     simpler reading leads, and the one that fits as well or better is said beside it, in
-    its own words and under ``fits_as_well``, with what would tell them apart."""
+    its own words and under ``fits_as_well``, with the record that would tell them apart."""
     from pneumatic_servo.effects.terms import BY_NAME
     from pneumatic_servo.synth.varied import Record, make_record
     registry.register(LoadedGearFriction)
@@ -449,5 +449,8 @@ def test_a_reading_the_records_cannot_tell_from_the_chosen_one_is_said_beside_it
     for term in best.fits_as_well:
         assert set(BY_NAME[term].depends_on) != set(BY_NAME[best.leading].depends_on)
         assert best.fits_as_well[term] in best.interpretation
-    assert 'would tell them apart' in best.interpretation
+    # and which record would tell them apart: one where the direction of motion varies
+    # independently of the load (the shaft braked, or driven by an outside load)
+    assert ('a record in which velocity varies independently of p_a and p_b would tell them '
+            'apart') in best.interpretation
     assert best.to_json()['fits_as_well'] == best.fits_as_well

@@ -454,29 +454,51 @@ def confirm(screened: ScreenedEquation, host: ModelConfig, model: Model, base: B
     return found
 
 
+def _and(names) -> str:
+    names = list(names)
+    return ' and '.join([', '.join(names[:-1]), names[-1]] if len(names) > 1 else names)
+
+
+def telling_apart(a, b) -> str:
+    """The record that would tell a reading of variables ``a`` from one of ``b`` apart:
+    one in which the variables only one of them depends on vary independently of those
+    both do (or of each other)."""
+    shared = [v for v in a if v in b]
+    only = [v for v in (*a, *b) if v not in shared]
+    only = list(dict.fromkeys(only))
+    if not only:
+        return 'a record that excites one and not the other'
+    if not shared and len(only) == 1:
+        return f'a record over which {only[0]} varies more'
+    if not shared:
+        return f'a record in which {_and(only)} vary independently of each other'
+    verb = 'varies' if len(only) == 1 else 'vary'
+    return f'a record in which {_and(only)} {verb} independently of {_and(shared)}'
+
+
 def alike(found: list[Discovered], base: Baseline, n_eff: float) -> Discovered:
     """The best of one equation's corrections by held-out BIC (each term counted at its
     :attr:`Term.cost`: the simpler is preferred). Where another, led by a term of other
     variables, fits the held-out data as well or better (BIC within :data:`BIC_TIE` or
-    lower, counting one
-    parameter per coefficient: the cost is a preference, not evidence), the records do
-    not tell the two apart, and the interpretation says both (the other is kept under
-    ``fits_as_well``)."""
+    lower, counting one parameter per coefficient: the cost is a preference, not
+    evidence), the records do not tell the two apart, and the interpretation says both,
+    with the record that would (:func:`telling_apart`); the other is kept under
+    ``fits_as_well``."""
     def bic(d, k):
         return information_criteria(base.score.overall ** 2, d.score.overall ** 2, k,
                                     n_eff)[1]
     best = min(found, key=lambda d: bic(d, d.n_params))
-    same = set(TERMS[best.leading].depends_on)
-    tied = {d.leading: d.interpretation for d in found
-            if bic(d, len(d.params)) - bic(best, len(best.params)) <= BIC_TIE
-            and set(TERMS[d.leading].depends_on) != same}
+    mine = TERMS[best.leading].depends_on
+    tied = [d for d in found if bic(d, len(d.params)) - bic(best, len(best.params)) <= BIC_TIE
+            and set(TERMS[d.leading].depends_on) != set(mine)]
     if not tied:
         return best
-    words = '; or '.join(tied.values())
-    return replace(best, fits_as_well=tied, interpretation=(
-        f'{best.interpretation}; or, as well or better on these records, {words} (held-out '
-        f'BIC within {BIC_TIE:g} or lower: a record that excites one and not the other would '
-        'tell them apart)'))
+    words = '; or '.join(f'{d.interpretation} (held-out BIC within {BIC_TIE:g} or lower: '
+                         f'{telling_apart(mine, TERMS[d.leading].depends_on)} would tell '
+                         'them apart)' for d in tied)
+    return replace(best, fits_as_well={d.leading: d.interpretation for d in tied},
+                   interpretation=f'{best.interpretation}; or, as well or better on these '
+                                  f'records, {words}')
 
 
 def discover(base: Baseline, data: Data, free: list[str], n_eff: float,
