@@ -455,6 +455,7 @@ def confirm(screened: ScreenedEquation, host: ModelConfig, model: Model, base: B
 
 
 def _and(names) -> str:
+    """'a', 'a and b', 'a, b and c'."""
     names = list(names)
     return ' and '.join([', '.join(names[:-1]), names[-1]] if len(names) > 1 else names)
 
@@ -464,8 +465,7 @@ def telling_apart(a, b) -> str:
     one in which the variables only one of them depends on vary independently of those
     both do (or of each other)."""
     shared = [v for v in a if v in b]
-    only = [v for v in (*a, *b) if v not in shared]
-    only = list(dict.fromkeys(only))
+    only = list(dict.fromkeys(v for v in (*a, *b) if v not in shared))
     if not only:
         return 'a record that excites one and not the other'
     if not shared and len(only) == 1:
