@@ -7,8 +7,9 @@ For each record it prints the status, any named verdict, and the best generic co
 its equation, its leading term and whether that is the right equation, the right dependence
 (the variables the leading term is a function of) and the right closed form (see
 ``open_world_set``); and whether the right dependence is said at all: led, or among the
-readings said to fit as well (``fits_as_well``), which the records cannot tell apart. Then the three hit rates beside the target (80 % for equation and
-dependence) and the count of confident wrong names (target 0), with the machine's load.
+readings said to fit as well (``fits_as_well``), which the records cannot tell apart.
+Then the hit rates beside the target (80 % for equation and dependence) and the count of
+confident wrong names (target 0), with the machine's load.
 
 Run: ``.venv/bin/python benchmarks/bench_open_world.py [--only NAME] [--json PATH]``.
 """
