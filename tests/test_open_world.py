@@ -306,7 +306,7 @@ def test_a_lagging_pressure_transmitter_is_read_as_a_lag_of_its_reading():
     """A lag as fast as the closed loop's steps is far from its first-order rate there; the
     lag operator on the reading writes it (``terms.lag``): located in chamber b's reading,
     its lag terms are, over the record, about the transmitter's 10 ms."""
-    from pneumatic_servo.analysis.diagnosis.discovery import equivalent_lag_ms
+    from pneumatic_servo.analysis.diagnosis.readings import equivalent_lag_ms
     from pneumatic_servo.synth.varied import Record, make_record
     registry.register(LaggingTransmitterB)
     try:

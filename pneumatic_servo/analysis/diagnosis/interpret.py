@@ -19,7 +19,7 @@ def leading(terms: dict[str, float], shares: dict[str, float] | None = None) -> 
     """The regressor a correction mostly depends on.
 
     With ``shares`` (the share of the correction's variation along the record each term
-    follows alone, ``discovery.term_spread``): the term with the largest. A constant level
+    follows alone, ``readings.term_spread``): the term with the largest. A constant level
     depends on nothing, so the constant leads only where nothing else varies: a gravity arm
     seen over a narrow range is a level plus a slope, and it depends on the angle. Without
     shares (a correction read back without its record): the term largest at its typical
@@ -69,7 +69,7 @@ def interpret(equation: str, terms: dict[str, float], config: ModelConfig,
     SI): what it is, after its leading term (:func:`leading`, with the terms' ``shares`` of
     its variation along the record where known), and the physics that usually causes it;
     a sensor error is called one, never a change of the physics. ``lag_ms``: the time
-    constant of a reading's lag terms over the record (``discovery.equivalent_lag_ms``)."""
+    constant of a reading's lag terms over the record (``readings.equivalent_lag_ms``)."""
     if not terms:
         return 'no term'
     reg = leading(terms, shares)

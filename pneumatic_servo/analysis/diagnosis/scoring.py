@@ -11,6 +11,10 @@ from ...model.assembly import Model
 from ...model.config import ModelConfig
 from .data import Data
 
+#: BIC difference below which two models are not told apart ("not worth more than a bare
+#: mention", Kass and Raftery 1995, J. Am. Stat. Assoc. 90:773)
+BIC_TIE = 2.0
+
 
 @dataclass(frozen=True)
 class Score:
