@@ -161,10 +161,7 @@ def diagnose(experiments: list[Experiment], config: ModelConfig | None = None,
     if options.discover and (any(certain(c, options) for c in ranking)
                              or trial.departures(trial.base.score).departs):
         found = timed('discovery', look_for_terms, trial, trial.base, progress)
-        # one effective sample count for all, so that named and generic compare fairly
-        joint = rank(ranking + found, trial)
-        ranking = [c for c in joint if not isinstance(c, Discovered)]
-        found = [c for c in joint if isinstance(c, Discovered)]
+        ranking, found = ranked_together(trial, ranking, found)
     ranking, found = timed('restart', settled, trial, ranking, found)
     first = best_named(trial, ranking)
     left = timed('floor_of_verdict', remainder, trial, first, found) if first else None
@@ -229,7 +226,13 @@ def settled(trial: Trial, ranking: list[Candidate], found: list) -> tuple[list, 
     again = restarted(trial, first)
     if again is first:
         return ranking, found
-    joint = rank([again if c is first else c for c in ranking] + found, trial)
+    return ranked_together(trial, [again if c is first else c for c in ranking], found)
+
+
+def ranked_together(trial: Trial, ranking: list[Candidate], found: list) -> tuple[list, list]:
+    """(named, generic) ranked in one list, with one effective sample count for all, so that
+    named effects and generic corrections compare fairly; each part best first."""
+    joint = rank(ranking + found, trial)
     return ([c for c in joint if not isinstance(c, Discovered)],
             [c for c in joint if isinstance(c, Discovered)])
 

@@ -97,12 +97,12 @@ def telling_apart(a, b) -> str:
 
 def alike(found: list, base: Baseline, n_eff: float):
     """The best of one equation's corrections (:class:`.discovery.Discovered`) by held-out
-    BIC (each term counted at its :attr:`Term.cost`: the simpler is preferred). Where another, led by a term of other
-    variables, fits the held-out data as well or better (BIC within :data:`BIC_TIE` or
-    lower, counting one parameter per coefficient: the cost is a preference, not
-    evidence), the records do not tell the two apart, and the interpretation says both,
-    with the record that would (:func:`telling_apart`); the other is kept under
-    ``fits_as_well``."""
+    BIC (each term counted at its :attr:`Term.cost`: the simpler is preferred). Where
+    another, led by a term of other variables, fits the held-out data as well or better
+    (BIC within :data:`BIC_TIE` or lower, counting one parameter per coefficient: the cost
+    is a preference, not evidence), the records do not tell the two apart, and the
+    interpretation says both, with the record that would (:func:`telling_apart`); the other
+    is kept under ``fits_as_well``."""
     def bic(d, k):
         return information_criteria(base.score.overall ** 2, d.score.overall ** 2, k,
                                     n_eff)[1]
