@@ -210,7 +210,8 @@ class TransmitterGainB(Component):
     name = 'open_world_gain_b'
     params = (Param('gain_error', '1', 0.04, -0.5, 0.5, 'relative gain error'),)
     sensor_error = staticmethod(_gain_b)
-    equations, depends, closed_form = ('measurement_p_b',), ({'p_b'},), ('p_b',)
+    equations, depends, closed_form = ('measurement_p_b',), ({'p_b'},), \
+        ('gauge_p_b', 'p_b')
 
 
 def _angle_scale(values, signals, core):

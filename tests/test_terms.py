@@ -57,13 +57,19 @@ def test_every_equation_offers_the_plain_terms_and_sensors_the_shafts_memory():
     plain = [t.name for t in TERMS if t.equations is None]
     for eq in EQUATIONS:
         names = [t.name for t in eq.terms]
-        if eq.generic:
-            assert names[:len(plain)] == plain, eq.name
+        if eq.generic:  # every plain term, in the vocabulary's order
+            assert [n for n in names if n in plain] == plain, eq.name
         else:  # a temperature reading: the constant and its own terms only
             assert names[0] == 'constant' and not set(plain[1:]) & set(names), eq.name
             assert names[1:] == [t.name for t in TERMS if eq.name in (t.equations or ())]
     assert [eq.name for eq in EQUATIONS if not eq.generic] == ['measurement_t_a',
                                                                'measurement_t_b']
+    # a reading's gain over a gauge span comes before one of the absolute pressure: where
+    # both fit alike, the first leads
+    for v in ('p_a', 'p_b', 'supply'):
+        names = [t.name for t in BY_EQUATION[f'measurement_{v}'].equation.terms]
+        assert names.index(f'gauge_{v}') < names.index(v)
+        assert f'gauge_{v}' not in [t.name for t in BY_EQUATION['moment_balance'].equation.terms]
     assert 'motion_direction' in [t.name for t in BY_EQUATION['measurement_angle'].equation.terms]
     assert 'motion_direction' not in [t.name for t in
                                       BY_EQUATION['moment_balance'].equation.terms]

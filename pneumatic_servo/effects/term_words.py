@@ -201,6 +201,15 @@ def chamber_reading(chamber: str):
     return words
 
 
+def gauge_reading(signal: str, name: str):
+    """A gain error over a gauge transmitter's span: proportional to the pressure above
+    atmosphere, zero at atmosphere."""
+    def words(x: Context) -> str | None:
+        return (f'the {name} transmitter\'s gain over its gauge span is off by '
+                f'{100 * x.c:+.2f} %' if x.signal == signal else None)
+    return words
+
+
 def supply_flow(x: Context) -> str | None:
     if x.c <= 0:
         return None

@@ -9,7 +9,8 @@ declared twice. The blocks:
 * **variables**: angle, speed, chamber pressures, valve command, supply;
 * **functions** of them: sign (a smooth ``tanh``), absolute value, sine and
   cosine, the signed square root of a pressure drop (an orifice), and smooth
-  **windows over the stroke** (Gaussian bumps at four places), and the knots of a **free
+  **windows over the stroke** (Gaussian bumps at four places), a pressure above atmosphere
+  (a gauge transmitter's span, offered to its own reading), and the knots of a **free
   shape** over it (piecewise linear, fitted together where no closed form fits);
 * **memory**: the direction in which the valve command last moved (a play
   operator of width :data:`COMMAND_PLAY_V`: magnetic hysteresis of a
@@ -294,6 +295,13 @@ TERMS = (
                'reading': w.velocity_reading}),
     Term('sign_velocity', '1', 1.0, 'direction of motion',
          f'np.tanh(velocity / {SIGN_VELOCITY_WIDTH})', says={'torque': w.coulomb_torque}),
+    # a gauge transmitter's gain error: proportional to the pressure above atmosphere (before
+    # the absolute pressures: where both fit alike, a reading's gain is over a gauge span)
+    *(Term(f'gauge_{v}', 'Pa', span, f'{words} pressure above atmosphere (what a gauge '
+           'transmitter reads)', f'({v} - p_atm)', (f'measurement_{v}',),
+           says={'reading': w.gauge_reading(v, words)})
+      for v, words, span in (('p_a', 'chamber a', 3e5), ('p_b', 'chamber b', 3e5),
+                             ('supply', 'supply', 6e5))),
     *(Term(f'p_{k}', 'Pa', 4e5, f'chamber {k} pressure (absolute)', f'p_{k}',
            says={'torque': w.chamber_torque(k), 'flow': w.chamber_flow(k),
                  'valve': w.pressure_driven_valve, 'reading': w.chamber_reading(k)})

@@ -408,6 +408,11 @@ def discover(base: Baseline, data: Data, free: list[str], n_eff: float,
         best = alike(found, base, n_eff)
         if s.other is not None and clearly_better is not None:
             other = confirm(s.other, host, model, base, data, free, options)
-            best = other if clearly_better(other, best) else best
+            if clearly_better(other, best):
+                best = other
+            elif other.n_params < best.n_params and not clearly_better(best, other):
+                # the simpler reading, which the better fit does not beat clearly (a gauge
+                # transmitter's gain error read as a level plus a crosstalk of the command)
+                best = alike(found + [other], base, n_eff, other)
         out.append(best)
     return out

@@ -95,18 +95,19 @@ def telling_apart(a, b) -> str:
     return f'a record in which {_and(only)} {verb} independently of {_and(shared)}'
 
 
-def alike(found: list, base: Baseline, n_eff: float):
+def alike(found: list, base: Baseline, n_eff: float, best=None):
     """The best of one equation's corrections (:class:`.discovery.Discovered`) by held-out
     BIC (each term counted at its :attr:`Term.cost`: the simpler is preferred). Where
     another, led by a term of other variables, fits the held-out data as well or better
     (BIC within :data:`BIC_TIE` or lower, counting one parameter per coefficient: the cost
     is a preference, not evidence), the records do not tell the two apart, and the
     interpretation says both, with the record that would (:func:`telling_apart`); the other
-    is kept under ``fits_as_well``."""
+    is kept under ``fits_as_well``. ``best``: the one chosen, where the caller has chosen
+    it (a simpler one that the best by BIC does not beat clearly)."""
     def bic(d, k):
         return information_criteria(base.score.overall ** 2, d.score.overall ** 2, k,
                                     n_eff)[1]
-    best = min(found, key=lambda d: bic(d, d.n_params))
+    best = best or min(found, key=lambda d: bic(d, d.n_params))
     mine = TERMS[best.leading].depends_on
     tied = [d for d in found if bic(d, len(d.params)) - bic(best, len(best.params)) <= BIC_TIE
             and set(TERMS[d.leading].depends_on) != set(mine)]
