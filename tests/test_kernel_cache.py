@@ -1,5 +1,6 @@
 """Each composition compiles once per machine: a second process loads the machine code that
 numba cached on disk, and an edited effect gets a new module instead of stale code."""
+import json
 import os
 import subprocess
 import sys
@@ -97,3 +98,58 @@ def test_a_function_declared_not_to_allocate_cannot_allocate():
     with pytest.raises(TypingError):
         makes_an_array(3)
     assert writes_through_a_view(np.ones(4)) == 8.0
+
+
+AHEAD = textwrap.dedent('''
+    import json
+    from pneumatic_servo.effects import Component, Param
+    from pneumatic_servo import effects as registry
+    from pneumatic_servo.model import compile_ahead
+    from pneumatic_servo.model.assembly import Layout, compile_in_background, kernels_for
+    from pneumatic_servo.model.compile_helper import compile_batches
+    from pneumatic_servo.model.config import ModelConfig
+
+    def counts(cfg):
+        """(hits, misses) of the batch integrator after running it as a prediction does."""
+        compile_batches(cfg)  # in this process: waits for the helper where it compiles cfg
+        stats = kernels_for(Layout.of(cfg.component_classes()))['run_batch'].stats
+        return sum(stats.cache_hits.values()), sum(stats.cache_misses.values())
+
+    out = {}
+    ahead = ModelConfig.paper().with_effect('valve_spool_dynamics')
+    compile_in_background([ahead])
+    helper = compile_ahead._helper
+    out['helper'] = helper is not None
+    out['ahead'] = counts(ahead)
+    out['helper_exit'] = helper.wait()
+    compile_in_background([ahead])  # compiled now: no helper for it
+    out['again'] = sorted(compile_ahead._pending)
+
+    class UserTorque(Component):  # defined here: another process could not import it
+        name = 'user_torque_under_test'
+        params = (Param('torque_n_m', 'N.m', 0.0, -1.0, 1.0, 'torque'),)
+    registry.register(UserTorque)
+    compile_in_background([ModelConfig.paper().with_effect(UserTorque.name)])
+    out['user'] = sorted(compile_ahead._pending)
+
+    stopped = ModelConfig.paper().with_effect('supply_pressure_drop')
+    compile_in_background([stopped])
+    compile_ahead.stop()  # a helper that ends early: this process compiles for itself
+    out['stopped'] = counts(stopped)
+    print(json.dumps(out))
+''')
+
+
+def test_a_helper_compiles_ahead_the_code_this_process_then_loads(tmp_path):
+    """On a fresh machine a helper process compiles a composition a diagnosis will need
+    later; this process then loads that machine code (a cache hit, no compiling). Nothing is
+    compiled ahead twice, nor a user's effect another process could not import, and a helper
+    that ends early only means this process compiles for itself."""
+    env = {**os.environ, 'PNEUMATIC_SERVO_CACHE': str(tmp_path),
+           'NUMBA_CACHE_DIR': str(tmp_path / 'numba')}
+    out = json.loads(subprocess.run([sys.executable, '-c', AHEAD], capture_output=True,
+                                    text=True, check=True, env=env).stdout)
+    assert out['helper'] and out['helper_exit'] == 0
+    assert out['ahead'] == [1, 0]  # loaded what the helper compiled
+    assert out['again'] == [] and out['user'] == []
+    assert out['stopped'] == [0, 1]  # compiled here, without waiting on a stopped helper

@@ -20,7 +20,8 @@ from ..effects.layout import (
     N_CONTEXT,
     N_CORE_STATES,
 )
-from . import culprit, kernel_cache
+from .. import _jit
+from . import compile_ahead, culprit, kernel_cache
 from .config import SLOTS, ModelConfig
 
 _KERNELS: dict[tuple, dict] = {}
@@ -60,8 +61,24 @@ class Layout:
 def kernels_for(layout: Layout) -> dict:
     """Compiled rhs and integrators for this composition (kept per process, cached on disk)."""
     if layout.classes not in _KERNELS:  # guarded: a failing hook is named (culprit)
+        compile_ahead.wait(kernel_cache.module_name(layout))  # a helper compiling it: load it
         _KERNELS[layout.classes] = culprit.guarded(layout, kernel_cache.load(layout))
     return _KERNELS[layout.classes]
+
+
+def compile_in_background(configs) -> None:
+    """Have a helper process compile the compositions of ``configs`` (:mod:`.compile_ahead`)
+    that are not compiled yet: those of the package's own components only, as a user's effect
+    may not be importable in another process."""
+    if not _jit.ENABLED:
+        return
+    jobs = []
+    for config in configs:
+        layout = Layout.of(config.component_classes())
+        if layout.classes not in _KERNELS and not kernel_cache.on_disk(layout) and all(
+                c.__module__.startswith('pneumatic_servo.') for c in layout.classes):
+            jobs.append((kernel_cache.module_name(layout), config.to_dict()))
+    compile_ahead.start(jobs)
 
 
 class Model:

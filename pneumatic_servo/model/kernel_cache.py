@@ -94,6 +94,19 @@ def _key(layout, source: str) -> str:
                            *(_source_of(cls) for cls in layout.classes))
 
 
+def module_name(layout) -> str:
+    """The name of ``layout``'s kernel module (a hash of what its machine code depends on)."""
+    return f'pneumatic_servo_kernel_{_key(layout, module_source(layout))}'
+
+
+def on_disk(layout) -> bool:
+    """Whether numba holds compiled code of ``layout``'s batch integrator on disk."""
+    try:
+        return Path(load(layout)['run_batch']._cache._cache_file._index_path).exists()
+    except AttributeError:  # another numba's internals, or numba off: say not
+        return False
+
+
 def load(layout) -> dict:
     """Kernels of ``layout`` (``rhs``, ``fixed_interval``, ``adaptive_interval``, ``run``,
     ``run_batch``) from its cached module, writing the module first if it is new."""
@@ -101,7 +114,6 @@ def load(layout) -> dict:
     hooks = {f'_hook_{i}_{stage}': cls.hook(stage)  # the hooks, as globals of the module
              for i, cls in enumerate(layout.classes) for stage in STAGES
              if cls.hook(stage) is not None}
-    module = _jit.load_generated(f'pneumatic_servo_kernel_{_key(layout, source)}', source,
-                                 hooks)
+    module = _jit.load_generated(module_name(layout), source, hooks)
     return {k: getattr(module, k) for k in
             ('rhs', 'fixed_interval', 'adaptive_interval', 'run', 'run_batch')}

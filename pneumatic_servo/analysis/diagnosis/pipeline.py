@@ -42,7 +42,7 @@ import numpy as np
 from ... import effects as registry
 from ...experiment import Experiment
 from ...fitting import effective_samples
-from ...model.assembly import Model
+from ...model.assembly import Model, compile_in_background
 from ...model.config import ModelConfig
 from ...prediction import predict
 from ..regimes import error_shares, hot_spots
@@ -50,8 +50,8 @@ from ..residuals import residual_tests, summary
 from .candidates import Baseline, Candidate, baseline, candidate_effects, screen_effect, try_effect
 from .criteria import Levels, certain
 from .data import Data
-from .discovery import Discovered, discover
-from .hosts import shared_host
+from .discovery import Discovered, correction_host, discover
+from .hosts import host_for, shareable, shared_host
 from .ladder import ladder
 from .options import DiagnoseOptions
 from .refit import remainder, restarted
@@ -152,6 +152,11 @@ def diagnose(experiments: list[Experiment], config: ModelConfig | None = None,
     options = options or DiagnoseOptions()
     config = config or ModelConfig.paper()
     names = candidate_effects(config, effects)
+    # on a fresh machine a helper process compiles every second named effect that needs a
+    # composition of its own, and the host of the generic corrections, while this one
+    # compiles the shared host, fits the model as given and compiles the other effects
+    own = [host_for(config, name) for name in names if not shareable(name)]
+    compile_in_background(own[1::2] + ([correction_host(config)] if options.discover else []))
     data, base, free = timed('prepare', prepare, experiments, config, free, options)
     trial = timed('floor', make_trial, data, base, free, options, len(names))
     base_preds = timed('where', predictions, trial.base.config, trial.data)
