@@ -39,7 +39,7 @@ from .data import Data
 from .hosts import shared_host
 from .interpret import interpret, leading
 from .options import DiagnoseOptions
-from .readings import alike, equivalent_lag_ms, term_spread
+from .readings import alike, equivalent_lag_ms, simplest_best, term_spread
 from .scoring import BIC_TIE, information_criteria, relative_fall, score_many
 
 #: sensitivity step of a coefficient, as a share of its plausible size: large enough to step
@@ -405,14 +405,16 @@ def discover(base: Baseline, data: Data, free: list[str], n_eff: float,
     for s in screened[:options.discovery_fits]:
         found = [confirm(c, host, model, base, data, free, options)
                  for c in (s, s.plain, s.richer) if c is not None]
-        best = alike(found, base, n_eff)
+        best = simplest_best(found, base, n_eff)
         if s.other is not None and clearly_better is not None:
             other = confirm(s.other, host, model, base, data, free, options)
-            if clearly_better(other, best):
+            # the set from another start leads where it explains clearly more, or where it
+            # is simpler and the better fit does not beat it clearly (a gauge transmitter's
+            # gain error read as a level plus a crosstalk of the command); only then is it
+            # weighed against the others (said beside it, it gave spurious readings)
+            if clearly_better(other, best) or (other.n_params < best.n_params
+                                               and not clearly_better(best, other)):
                 best = other
-            elif other.n_params < best.n_params and not clearly_better(best, other):
-                # the simpler reading, which the better fit does not beat clearly (a gauge
-                # transmitter's gain error read as a level plus a crosstalk of the command)
-                best = alike(found + [other], base, n_eff, other)
-        out.append(best)
+                found.append(other)
+        out.append(alike(found, base, n_eff, best))
     return out

@@ -95,19 +95,26 @@ def telling_apart(a, b) -> str:
     return f'a record in which {_and(only)} {verb} independently of {_and(shared)}'
 
 
-def alike(found: list, base: Baseline, n_eff: float, best=None):
+def _bic(d, k: int, base: Baseline, n_eff: float) -> float:
+    """Held-out BIC of correction ``d`` counted as ``k`` parameters, against ``base``."""
+    return information_criteria(base.score.overall ** 2, d.score.overall ** 2, k, n_eff)[1]
+
+
+def simplest_best(found: list, base: Baseline, n_eff: float):
     """The best of one equation's corrections (:class:`.discovery.Discovered`) by held-out
-    BIC (each term counted at its :attr:`Term.cost`: the simpler is preferred). Where
-    another, led by a term of other variables, fits the held-out data as well or better
-    (BIC within :data:`BIC_TIE` or lower, counting one parameter per coefficient: the cost
-    is a preference, not evidence), the records do not tell the two apart, and the
+    BIC, each term counted at its :attr:`Term.cost` (the simpler is preferred)."""
+    return min(found, key=lambda d: _bic(d, d.n_params, base, n_eff))
+
+
+def alike(found: list, base: Baseline, n_eff: float, best):
+    """``best`` of one equation's corrections ``found``, with those it cannot be told from:
+    where another, led by a term of other variables, fits the held-out data as well or
+    better (BIC within :data:`BIC_TIE` or lower, counting one parameter per coefficient:
+    the cost is a preference, not evidence), the records do not tell the two apart, and the
     interpretation says both, with the record that would (:func:`telling_apart`); the other
-    is kept under ``fits_as_well``. ``best``: the one chosen, where the caller has chosen
-    it (a simpler one that the best by BIC does not beat clearly)."""
+    is kept under ``fits_as_well``."""
     def bic(d, k):
-        return information_criteria(base.score.overall ** 2, d.score.overall ** 2, k,
-                                    n_eff)[1]
-    best = best or min(found, key=lambda d: bic(d, d.n_params))
+        return _bic(d, k, base, n_eff)
     mine = TERMS[best.leading].depends_on
     tied = [d for d in found if bic(d, len(d.params)) - bic(best, len(best.params)) <= BIC_TIE
             and set(TERMS[d.leading].depends_on) != set(mine)]
