@@ -8,8 +8,9 @@ publishers, and its ``step`` and ``publish`` do the work. Strategies:
   period late is counted as an overrun and the schedule restarts from now.
 * :class:`Lockstep`: the node owns ``/clock``; the next period runs only
   once the controller has answered the last measurement. An unanswered
-  measurement is resent; a controller that stays silent past the watchdog
-  trips the gate, and the plant goes on in real time (:class:`FreeRunning`).
+  measurement is resent; a controller that stays silent past
+  ``lockstep_patience_s`` trips the gate, and the plant goes on in real time
+  (:class:`FreeRunning`).
 * :class:`Replay`: a bag's measurement events in their own time
   (:class:`.backends.ReplaySource`).
 
@@ -76,6 +77,9 @@ class FreeRunning:
 class Lockstep:
     """One period per answered measurement (see module doc)."""
 
+    #: the gate counts sim time (:meth:`.plant_node.PlantNode.gate_time`)
+    sim_clock = True
+
     def __init__(self, node, now: float):
         self.started = False  # the first sample waits for the subscribers
         self.wait = SubscriberWait(max(1, node.p['wait_subscribers']))
@@ -85,7 +89,7 @@ class Lockstep:
             return monotonic() + POLL_S
         if node.answered:
             return monotonic()
-        return node.sent_at + min(node.p['lockstep_resend_s'], node.gate.watchdog_s)
+        return node.sent_at + min(node.p['lockstep_resend_s'], node.p['lockstep_patience_s'])
 
     def tick(self, node, now: float) -> None:
         if not self.started:
@@ -96,12 +100,17 @@ class Lockstep:
         if node.answered:
             node.step(now)
             return
-        # the watchdog counts from the last *new* command: resending the measurement below
-        # does not feed it, so a dead controller trips it in lockstep as in real time
-        armed = node.gate.armed
-        node.gate.output(now)
-        if armed and node.gate.faulted:
-            node.get_logger().error('lockstep: no new command within the watchdog period; '
+        # while it waits, the simulation stands still and no valve is at stake (lockstep
+        # runs the sim backend only): the gate counts sim time, and the controller is given
+        # up on after lockstep_patience_s of wall time without a new command, which a loaded
+        # machine's stall of a healthy controller does not outlast. Resending the
+        # measurement below does not feed it, so a dead controller is given up on
+        age = now - node.commanded_at
+        patience = node.p['lockstep_patience_s']
+        if node.gate.armed and not age <= patience:
+            node.gate.trip(f'watchdog: no command for {age * 1e3:.0f} ms in lockstep '
+                           f'(limit lockstep_patience_s = {patience * 1e3:.0f} ms)')
+            node.get_logger().error('lockstep: no new command within lockstep_patience_s; '
                                     'valve safe, continuing in real time')
             node.pacing = FreeRunning(node, now, measurement_out=True)
             node.publish_diagnostics(now, force=True)

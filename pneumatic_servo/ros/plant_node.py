@@ -298,13 +298,14 @@ class PlantNode(LifecycleNode):
             value = cdr.unpack_float64(data)
         except (ValueError, IndexError):
             value = math.nan  # a malformed command is a non-finite one: the gate latches
-        self.gate.command(value, now)
+        self.gate.command(value, self.gate_time(now))
+        self.commanded_at = now
         if self.sent_at:
             # plant publish -> command received, on this process's monotonic clock
             self._latency.append(now - self.sent_at)
         if self.state == 'active' and self.backend is not None:
             try:
-                self.backend.apply(self.gate.output(now))
+                self.backend.apply(self.gate.output(self.gate_time(now)))
             except PneumaticServoError as exc:
                 self._halt(f'valve write failed: {exc}', now)
         self.answered = True  # the last measurement has its answer (lockstep waits for it)
@@ -316,11 +317,20 @@ class PlantNode(LifecycleNode):
         self.samples = 0  # sample periods run (sim time = samples * period_s)
         self.answered = False
         self.sent_at = 0.0
+        self.commanded_at = 0.0  # [s] wall time of the last command
         self._periods = collections.deque(maxlen=5000)  # the last ~5 s at 1 kHz
         self._latency = collections.deque(maxlen=5000)
         self._last_tick = None
         self.overruns = 0
         self.resends = 0
+
+    def gate_time(self, now: float) -> float:
+        """[s] The clock the gate's watchdog counts: sim time while in lockstep, where the
+        simulation waits for each answer and a controller stalled by a loaded machine must
+        not trip it (:class:`.pacing.Lockstep` gives a silent one up after
+        ``lockstep_patience_s`` of wall time instead); else ``now``."""
+        return self.samples * self.period_s if getattr(self.pacing, 'sim_clock', False) \
+            else now
 
     @property
     def lockstep(self) -> bool:
@@ -350,7 +360,7 @@ class PlantNode(LifecycleNode):
         if self._last_tick is not None:
             self._periods.append(now - self._last_tick)
         self._last_tick = now
-        u = self.gate.output(now)
+        u = self.gate.output(self.gate_time(now))
         self.measurement = self.backend.step(u)
         self._applied = u
         self.samples += 1
@@ -391,7 +401,7 @@ class PlantNode(LifecycleNode):
         return out
 
     def publish_diagnostics(self, now: float, force: bool = False, extra: str = '') -> None:
-        gs = self.gate.status(now)
+        gs = self.gate.status(self.gate_time(now))
         level, message = gs.level, gs.message
         if self.state == 'halted' and level != 'error':
             level, message = 'error', f'halted: {self.halt_reason}'

@@ -10,6 +10,11 @@ from ..effects.layout import CORE_INDEX, CORE_PARAMS
 
 BACKENDS = ('sim', 'rig', 'replay')
 CLOCK_MODES = ('free', 'lockstep')
+#: [s] lockstep: wall time without a new command before the controller is given up on. A
+#: healthy controller's answer was seen 0.34 s late on a loaded 2-core machine, and a stall
+#: of over 0.1 s (the gate's watchdog) ended a lockstep run 2.3 s in on another; a dead
+#: controller is still given up on within seconds
+LOCKSTEP_PATIENCE_S = 2.0
 
 
 def _cross(v: dict):
@@ -67,6 +72,12 @@ PLANT_SPECS = SpecSet([
          MIN_V, MAX_V, safety=True),
     Spec('lockstep_resend_s', 0.02, 'lockstep: resend the last measurement if unanswered '
          'this long (wall time)', 's', 0.001, 1.0),
+    Spec('lockstep_patience_s', LOCKSTEP_PATIENCE_S, 'lockstep: give the controller up '
+         '(latched watchdog fault, valve safe, the plant on in real time) after this long '
+         'without a new command (wall time; in lockstep it stands for watchdog_s: the '
+         'simulation waits for each answer and no valve is at stake, so a loaded machine '
+         'stalling a healthy controller must not end the run); fixed while active', 's',
+         0.01, 60.0, safety=True),
     Spec('wait_subscribers', 0, 'lockstep and replay: start when joint_states has this many '
          'subscribers (say, the controller and a recorder that must see every sample); '
          'lockstep waits for at least 1', '', 0, 100, read_only=True),

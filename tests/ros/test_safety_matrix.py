@@ -159,6 +159,34 @@ def test_killed_controller_in_its_own_process_trips_the_watchdog(clock, procs, p
     assert plant.poll() is None
 
 
+def test_lockstep_waits_out_a_stalled_controller_and_gives_up_on_a_frozen_one(procs, probe):
+    """A loaded machine stalls processes: a controller frozen (SIGSTOP) for five times the
+    gate's 0.1 s watchdog is waited for in lockstep (no fault; sim time goes on where it
+    stood), while one frozen for good is given up on after ``lockstep_patience_s``: the
+    watchdog fault, valve safe, the plant still reporting."""
+    patience_s = 3.0
+    plant = procs.start('plant', '--clock', 'lockstep', '--set', 'watchdog_s=0.1', '--set',
+                        f'lockstep_patience_s={patience_s}', '--set',
+                        'diagnostics_period_s=0.05', name='plant')
+    ctrl = procs.start('controller', '--use-sim-time', name='controller')
+    probe.wait_diag('plant', lambda s, v: s.message == 'commanding', 90.0, what='loop')
+    ctrl.send_signal(signal.SIGSTOP)
+    probe.spin(0.5)
+    sim_s = float(probe.diag_values(probe.diag('plant'))['sim_time_s'])
+    ctrl.send_signal(signal.SIGCONT)
+    probe.spin_until(lambda: float(probe.diag_values(probe.diag('plant'))['sim_time_s'])
+                     > sim_s + 0.5, 30.0, 'sim time on after the stall')
+    assert level(probe.diag('plant')) == 0, probe.diag('plant').message
+    t = time.monotonic()
+    ctrl.send_signal(signal.SIGSTOP)
+    st = probe.wait_diag('plant', lambda s, v: level(s) == 2, REACTION_S + patience_s, t,
+                         'watchdog')
+    assert time.monotonic() - t >= patience_s - 0.5, 'given up on before its patience'
+    assert 'watchdog' in st.message and 'lockstep_patience_s' in st.message
+    assert out_v(probe, st) == 5.0 and plant.poll() is None
+    ctrl.send_signal(signal.SIGCONT)
+
+
 # --------------------------------------------------------------------------- stamps
 def far_sample(stamp_s: float) -> JointState:
     msg = JointState()
