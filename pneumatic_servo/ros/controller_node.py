@@ -14,8 +14,8 @@ than the last one handled is ignored, so a measurement sent twice (lockstep
 resend) is answered once; if it is still being resent ``REANSWER_S`` after the
 answer, that answer was lost (sent before the plant's subscription matched) and
 the same command goes out again, or a lockstep plant would wait forever. A stamp
-more than ``restart_jump_s`` older starts the law afresh (the plant restarted
-its clock). A sample whose stamp leaves the stream by
+more than ``restart_jump_s`` older, or an older one sent twice (a lockstep plant
+restarted its clock less than ``restart_jump_s`` in), starts the law afresh. A sample whose stamp leaves the stream by
 more than ``max_stamp_skew_s`` (its offset from the local monotonic clock jumps) is
 rejected and reported: one bad stamp never decides which samples count. The stream is
 judged against itself, not against the clock, so a replay of a year-old bag and a
@@ -97,6 +97,7 @@ class ControllerNode(Node):
         self.m = Measurement(math.nan, math.nan)
         self._stamps = {}
         self._last_done = -1
+        self._stale = -1  # [ns] the last out-of-order stamp dropped (see _on_joint)
         self._answered_at = -math.inf
         self._pending = None
         self.ref = None
@@ -227,10 +228,15 @@ class ControllerNode(Node):
         if not self._stamp_ok(stamp):
             return
         if stamp <= self._last_done:
-            if self._last_done - stamp <= self.p['restart_jump_s'] * 1e9:
-                if stamp == self._last_done:
-                    self._reanswer()
-                return  # a resent or out-of-order sample: answered already
+            jump_ok = self._last_done - stamp <= self.p['restart_jump_s'] * 1e9
+            if stamp == self._last_done:
+                self._reanswer()
+                return
+            if jump_ok and stamp != self._stale:
+                self._stale = stamp
+                return  # an out-of-order sample: a later one was answered already
+            # far older, or an older sample sent again: only a restarted plant resends a
+            # sample from before the last one (a lockstep restart within restart_jump_s)
             self._restart()
         if self._pending is not None and self._pending[0] < stamp:
             self._compute()  # the pressures of the older sample never came: use the latest

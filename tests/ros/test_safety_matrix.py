@@ -224,23 +224,51 @@ def test_a_far_future_stamp_never_locks_the_controller_out(clock, procs, probe):
     assert up.poll() is None
 
 
-def test_a_lost_answer_is_sent_again_when_the_sample_is_still_resent(procs, probe):
-    """Lockstep resends an unanswered sample every 20 ms. If the answer went out before the
-    plant's subscription matched, it is lost; the controller must answer the still-resent
-    sample again, or the plant waits forever (seen once in CI: 90 s of 'waiting for the
-    first command'). Here the probe is the plant and resends the sample 0.5 s later."""
+def lockstep_probe(procs, probe):
+    """A controller, and the probe's joint_states publisher standing in for a lockstep
+    plant, matched both ways."""
     procs.start('controller', name='controller')
     pub = probe.node.create_publisher(JointState, 'joint_states', 10)
     probe.spin_until(lambda: pub.get_subscription_count() > 0
                      and probe.node.count_publishers('valve/command') > 0, 30.0, 'controller')
     probe.spin(0.5)  # the command subscription matched on both sides
+    return pub
+
+
+def answered(probe, pub, stamp_ns: int) -> JointState:
+    """Send a sample stamped ``stamp_ns`` of sim time every 20 ms, as lockstep does, until
+    a new command answers it."""
     sample = far_sample(0.0)
-    sample.header.stamp.nanosec = 1_000_000  # lockstep's first stamps
-    end = time.monotonic() + 10.0
-    while not probe.commands:  # resent every 20 ms until answered, as lockstep does
-        assert time.monotonic() < end, 'no answer within 10 s'
+    sample.header.stamp.nanosec = stamp_ns
+    n, end = len(probe.commands), time.monotonic() + 10.0
+    while len(probe.commands) == n:
+        assert time.monotonic() < end, f'no answer to the sample at {stamp_ns} ns within 10 s'
         pub.publish(sample)
         probe.spin(0.02)
+    return sample
+
+
+def test_a_lockstep_restart_less_than_restart_jump_s_in_is_answered(procs, probe):
+    """A lockstep plant deactivated and activated again starts its sim time at 1 ms. Had it
+    run less than ``restart_jump_s`` (1 s) before, its first sample looked like an
+    out-of-order one and was dropped for good, and the plant waited forever (seen on a
+    loaded machine). Sent again, an older sample is a restart: the law starts afresh."""
+    pub = lockstep_probe(procs, probe)
+    for stamp_ms in (1, 2, 3, 400):
+        answered(probe, pub, stamp_ms * 1_000_000)
+    answered(probe, pub, 1_000_000)  # the restarted plant's first sample
+    st = probe.wait_diag('controller', lambda s, v: int(v.get('restarts', 0)) == 1, 10.0,
+                         what='restarts on /diagnostics')
+    assert int(probe.diag_values(st)['commands']) == 5
+
+
+def test_a_lost_answer_is_sent_again_when_the_sample_is_still_resent(procs, probe):
+    """Lockstep resends an unanswered sample every 20 ms. If the answer went out before the
+    plant's subscription matched, it is lost; the controller must answer the still-resent
+    sample again, or the plant waits forever (seen once in CI: 90 s of 'waiting for the
+    first command'). Here the probe is the plant and resends the sample 0.5 s later."""
+    pub = lockstep_probe(procs, probe)
+    sample = answered(probe, pub, 1_000_000)  # lockstep's first stamp
     probe.spin(0.5)
     pub.publish(sample)  # still unanswered as far as this plant knows
     probe.spin_until(lambda: len(probe.commands) >= 2, 10.0, 'the answer again')
