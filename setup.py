@@ -28,7 +28,7 @@ setup(
         'rig': ['nidaqmx'],
         # many recordings on Dask (pneumatic-servo fleet): scheduler, progress bar, Parquet
         'fleet': ['dask[distributed]>=2024.1', 'tqdm', 'pyarrow'],
-        'test': ['pytest>=7', 'pytest-timeout', 'hypothesis'],
+        'test': ['pytest>=7', 'pytest-timeout', 'pytest-xdist', 'hypothesis'],
     },
     zip_safe=True,
     maintainer='pneumatic_servo developers',

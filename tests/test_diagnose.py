@@ -30,6 +30,14 @@ from pneumatic_servo.model import ModelConfig
 from pneumatic_servo.synth.hidden import write_dataset
 
 DATA = Path(__file__).parent / 'data' / 'hidden'
+#: the hidden-effect sets the suite diagnoses with the full catalogue: one of each kind
+#: (valve, delay, load, leak), the first three diagnosed here by other tests anyway. All
+#: twelve took 40 minutes on a loaded 2-core CI machine (about 200 s each):
+#: ``benchmarks/bench_catalogue.py`` runs this test on every catalogue effect
+SUITE_EFFECTS = ('valve_null_offset', 'transport_delay', 'external_load_torque',
+                 'piston_seal_leakage')
+EFFECTS = (registry.CATALOGUE_NAMES if os.environ.get('PNEUMATIC_SERVO_ALL_EFFECTS')
+           else SUITE_EFFECTS)
 
 
 def load_set(name: str):
@@ -57,7 +65,7 @@ def diagnosed():
 
 
 # ---------------------------------------------------------------- one hidden effect
-@pytest.mark.parametrize('effect', registry.CATALOGUE_NAMES)
+@pytest.mark.parametrize('effect', EFFECTS)
 def test_hidden_effect_is_named_recovered_and_cuts_the_error(effect, diagnosed):
     result, truth, _ = diagnosed(effect)
     assert result.verdict == effect, result.reason

@@ -21,13 +21,30 @@ from rclpy.executors import SingleThreadedExecutor
 from rclpy.node import Node
 from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy
 
+#: [s] the plant's watchdog in the tests that are not about its period (the gate's own tests
+#: run it on a clock they set). The default 0.1 s is for a rig's own machine: on a loaded
+#: 2-core CI machine a process sleeping 10 ms woke 0.35 s late once in a hundred times, and
+#: stalls of 0.4-1.07 s tripped it between two healthy commands
+WATCHDOG_S = 3.0
+#: [s] a fault shows on /diagnostics within this (the watchdog, DDS, a loaded machine)
+REACTION_S = 5.0 + WATCHDOG_S
+#: arguments of ``pneumatic-servo plant`` (and, as ``UP_BUSY``, of ``up``) for such tests;
+#: in lockstep the controller is given up on after the same wall time
+PLANT_BUSY = ('--set', f'watchdog_s={WATCHDOG_S}', '--set', f'lockstep_patience_s={WATCHDOG_S}')
+UP_BUSY = tuple(a.replace('--set', '--plant-set') for a in PLANT_BUSY)
+
 _counter = itertools.count()
-_BASE = (os.getpid() * 7) % 60
+#: domains 40-99, or half of them for each of two pytest-xdist workers (gw0, gw1)
+_WORKER = os.environ.get('PYTEST_XDIST_WORKER', '')
+_FIRST, _COUNT = ((40, 60) if not _WORKER.startswith('gw') else
+                  (40 + 30 * (int(_WORKER[2:]) % 2), 30))
+_BASE = (os.getpid() * 7) % _COUNT
 
 
 def next_domain() -> int:
-    """A domain id in 40-99, different for each call in this test session."""
-    return 40 + (_BASE + next(_counter)) % 60
+    """A domain id in 40-99, different for each call in this test session (and from the
+    other worker's, when the suite runs on two)."""
+    return _FIRST + (_BASE + next(_counter)) % _COUNT
 
 
 def ros_env(domain: int) -> dict:

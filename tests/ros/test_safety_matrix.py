@@ -12,7 +12,7 @@ import time
 
 import pytest
 from lifecycle_msgs.msg import Transition
-from rostest_helpers import level
+from rostest_helpers import PLANT_BUSY, REACTION_S, UP_BUSY, level
 from sensor_msgs.msg import JointState
 from std_msgs.msg import Float64
 
@@ -20,13 +20,6 @@ from pneumatic_servo.ros.loop import STOP_SIGNALS
 
 PLANT = 'pneumatic_servo_plant'
 CONTROLLER = 'pneumatic_servo_controller'
-#: [s] the plant's watchdog in these tests: 1 s rather than the default 0.1 s, because on a
-#: loaded 2-core machine a healthy controller's answer was seen 0.34 s late, which trips the
-#: default in lockstep before the loop is up (the trip itself is what the tests check)
-WATCHDOG_S = 1.0
-#: [s] a fault must show on /diagnostics within this (watchdog, diagnostics 0.05 s, DDS and
-#: a loaded machine on top)
-REACTION_S = 5.0 + WATCHDOG_S
 
 
 def out_v(probe, st) -> float:
@@ -70,8 +63,7 @@ def start_loop(procs, probe, clock: str, processes: int):
     """Plant and controller closing the loop: `up` (one process, or the controller in a
     child of it); returns the `up` process once the plant is commanding."""
     up = procs.start('up', '--clock', clock, '--processes', str(processes),
-                     '--plant-set', 'diagnostics_period_s=0.05', '--plant-set',
-                     f'watchdog_s={WATCHDOG_S}', name='up')
+                     '--plant-set', 'diagnostics_period_s=0.05', *UP_BUSY, name='up')
     try:
         probe.wait_diag('plant', lambda s, v: s.message == 'commanding', 90.0,
                         what=f'closed loop ({clock}, {processes} process)')
@@ -86,7 +78,8 @@ def start_loop(procs, probe, clock: str, processes: int):
 # ---------------------------------------------------------------------------- signals
 @pytest.mark.parametrize('sig', STOP_SIGNALS, ids=lambda s: s.name)
 def test_every_stop_signal_leaves_the_valve_safe(sig, procs, probe):
-    plant = procs.start('plant', '--set', 'diagnostics_period_s=0.05', name='plant')
+    plant = procs.start('plant', '--set', 'diagnostics_period_s=0.05', *PLANT_BUSY,
+                        name='plant')
     probe.wait_diag('plant', lambda s, v: v.get('state') == 'active', 60.0, what='plant')
     probe.spin_until(lambda: probe.command_pub.get_subscription_count() > 0, 10.0, 'sub')
     end = time.monotonic() + 0.3
@@ -145,9 +138,8 @@ def test_killed_plant_process_takes_its_controller_child_along(clock, procs, pro
 @pytest.mark.parametrize('clock', ('free', 'lockstep'))
 def test_killed_controller_in_its_own_process_trips_the_watchdog(clock, procs, probe):
     """Two separate processes (plant, controller), the controller killed."""
-    plant = procs.start('plant', '--clock', clock, '--set', f'watchdog_s={WATCHDOG_S}',
-                        '--set', 'diagnostics_period_s=0.05',
-                        name='plant')
+    plant = procs.start('plant', '--clock', clock, *PLANT_BUSY, '--set',
+                        'diagnostics_period_s=0.05', name='plant')
     args = ('--use-sim-time',) if clock == 'lockstep' else ()
     ctrl = procs.start('controller', *args, name='controller')
     probe.wait_diag('plant', lambda s, v: s.message == 'commanding', 90.0, what='loop')
