@@ -2,8 +2,8 @@
 # Set-up and entry points. On a fresh machine with Python 3.11:
 #   ./run.sh demo   creates .venv, installs the package, runs the main job into out/
 #   ./run.sh test   creates .venv if needed, runs the test suite (or the tests named after it);
-#                   the whole suite on two pytest-xdist workers, a file to each (the ROS
-#                   tests mostly wait on other processes, the rest computes)
+#                   the whole suite on two pytest-xdist workers, a file to each, the longest
+#                   first (tests/conftest.py; the ROS tests mostly wait, the rest computes)
 #   ./run.sh bench  runs the benchmarks in benchmarks/ and prints their figures
 set -euo pipefail
 cd "$(dirname "$0")"
@@ -20,7 +20,7 @@ shift || true
 case "$verb" in
   demo)  exec "$venv/bin/pneumatic-servo" demo --out out "$@" ;;
   test)  [ $# -gt 0 ] || set -- tests -n "${PNEUMATIC_SERVO_TEST_WORKERS:-2}" --dist loadfile \
-           --timeout 1800
+           --no-loadscope-reorder --timeout 1800
          exec "$venv/bin/python" -m pytest -q "$@" ;;
   bench) for b in benchmarks/bench_*.py; do echo "== $b"; "$venv/bin/python" "$b" "$@"; done ;;
   *)     exec "$venv/bin/pneumatic-servo" "$verb" "$@" ;;
