@@ -21,9 +21,11 @@ MONITOR = 'pneumatic_servo_monitor'
 CHANNEL_NAMES = tuple(f'{MONITOR}: monitor {ch}' for ch in ('angle', 'p_a', 'p_b'))
 SEAL = 'piston_seal_leakage.seal_leak_area_m2'
 WARN = 1
-#: the monitor judges every window, late if it must: these tests are about what it says of
-#: the data, and a loaded CI machine left it a fraction of a 10 s replay at the default
-#: ``max_backlog_s`` (2 s: beyond it, data are skipped and the skipping reported)
+#: the monitor judges every window, late if it must, where the data are bounded (a lockstep
+#: loop, a 10 s replay): these tests are about what it says of the data, and a loaded CI
+#: machine left it a fraction of the replay at the default ``max_backlog_s`` (2 s: beyond
+#: it, data are skipped and the skipping reported). Not beside a free-running 1 kHz plant,
+#: which it cannot keep up with there: it would fall ever further behind
 ALL_DATA = ('--set', 'max_backlog_s=600')
 
 
@@ -172,7 +174,7 @@ def test_a_run_recorded_with_the_monitor_reads_in_compare_and_fleet(procs, probe
     from pneumatic_servo.fleet.task import TaskOptions, check_recording
     from pneumatic_servo.io import read_experiment
     from pneumatic_servo.model import ModelConfig
-    procs.start('monitor', '--baseline', '2', *ALL_DATA, name='monitor')
+    procs.start('monitor', '--baseline', '2', name='monitor')  # free-running: it decimates
     procs.start('controller', name='controller')
     plant = procs.start('plant', '--set', 'initial_angle_rad=1.0', *PLANT_BUSY, name='plant')
     probe.spin_until(lambda: probe.joint, 60.0, f'the plant ({procs.log(plant)[-300:]})')
