@@ -32,6 +32,10 @@ REACTION_S = 5.0 + WATCHDOG_S
 #: in lockstep the controller is given up on after the same wall time
 PLANT_BUSY = ('--set', f'watchdog_s={WATCHDOG_S}', '--set', f'lockstep_patience_s={WATCHDOG_S}')
 UP_BUSY = tuple(a.replace('--set', '--plant-set') for a in PLANT_BUSY)
+#: lockstep runs whose subject is not a dead controller: a healthy one stalled for over 3 s
+#: on a loaded CI machine (two test workers beside the loop), and the run was given up on
+PLANT_PATIENT = ('--set', f'watchdog_s={WATCHDOG_S}', '--set', 'lockstep_patience_s=60')
+UP_PATIENT = tuple(a.replace('--set', '--plant-set') for a in PLANT_PATIENT)
 
 _counter = itertools.count()
 #: domains 40-99, or half of them for each of two pytest-xdist workers (gw0, gw1)

@@ -4,7 +4,7 @@ import math
 
 import numpy as np
 import pytest
-from rostest_helpers import PLANT_BUSY
+from rostest_helpers import PLANT_PATIENT
 
 from pneumatic_servo.control.metrics import step_metrics, tracking_rms
 from pneumatic_servo.control.reference import Reference, Trajectory
@@ -35,7 +35,7 @@ def test_lockstep_step_and_sine(procs, probe, controller, limits):
     probe.send(probe.trajectory_pub, common.joint_trajectory(points, 'actuator_joint'),
                wait_subscribers=30.0)
     probe.spin(0.3)
-    plant = procs.start('plant', '--clock', 'lockstep', *PLANT_BUSY, '--set',
+    plant = procs.start('plant', '--clock', 'lockstep', *PLANT_PATIENT, '--set',
                         f'initial_angle_rad={STEP_FROM_DEG * DEG}', '--set',
                         'wait_subscribers=2', name='plant')
     probe.spin_until(lambda: probe.joint and probe.joint[-1][0] >= END_S, 90.0,

@@ -11,7 +11,7 @@ import time
 
 import numpy as np
 import yaml
-from rostest_helpers import PLANT_BUSY, UP_BUSY, level
+from rostest_helpers import PLANT_BUSY, UP_PATIENT, level
 from std_msgs.msg import Float64MultiArray
 
 from pneumatic_servo.control.reference import TrajectoryPoint
@@ -58,7 +58,7 @@ def start_lockstep(procs, probe, duration_s: float, plant_config=None, processes
     """Plant and controller (``up``, lockstep) with a trajectory of moves, once the monitor
     listens: the plant waits for the controller, the monitor and the probe (and whoever
     else is counted in ``subscribers``)."""
-    args = ['up', '--clock', 'lockstep', '--processes', processes, *UP_BUSY,
+    args = ['up', '--clock', 'lockstep', '--processes', processes, *UP_PATIENT,
             '--plant-set', 'initial_angle_rad=1.0',
             '--plant-set', f'wait_subscribers={subscribers}']
     if plant_config is not None:
