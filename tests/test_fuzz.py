@@ -19,7 +19,7 @@ from pneumatic_servo.experiment import Experiment
 from pneumatic_servo.io import read_experiment, write_experiment
 from pneumatic_servo.model.config import ModelConfig
 
-FUZZ = settings(max_examples=40, deadline=20_000, derandomize=True,
+FUZZ = settings(max_examples=40, deadline=120_000, derandomize=True,
                 suppress_health_check=[HealthCheck.function_scoped_fixture,
                                        HealthCheck.too_slow])
 
