@@ -15,9 +15,10 @@ resend) is answered once; if it is still being resent ``REANSWER_S`` after the
 answer, that answer was lost (sent before the plant's subscription matched) and
 the same command goes out again, or a lockstep plant would wait forever. A stamp
 more than ``restart_jump_s`` older, or an older one sent twice (a lockstep plant
-restarted its clock less than ``restart_jump_s`` in), starts the law afresh. A sample whose stamp leaves the stream by
-more than ``max_stamp_skew_s`` (its offset from the local monotonic clock jumps) is
-rejected and reported: one bad stamp never decides which samples count. The stream is
+restarted its clock less than ``restart_jump_s`` in), starts the law afresh. A
+sample whose stamp leaves the stream by more than ``max_stamp_skew_s`` (its offset
+from the local monotonic clock jumps) is rejected and reported: one bad stamp never
+decides which samples count. The stream is
 judged against itself, not against the clock, so a replay of a year-old bag and a
 lockstep plant faster than real time are accepted; a stream that really moved (a new
 plant, a new clock) is followed after ``REANCHOR_SAMPLES`` samples agree on it. Until a

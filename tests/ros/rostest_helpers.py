@@ -28,14 +28,19 @@ from rclpy.qos import HistoryPolicy, QoSProfile, ReliabilityPolicy
 WATCHDOG_S = 3.0
 #: [s] a fault shows on /diagnostics within this (the watchdog, DDS, a loaded machine)
 REACTION_S = 5.0 + WATCHDOG_S
-#: arguments of ``pneumatic-servo plant`` (and, as ``UP_BUSY``, of ``up``) for such tests;
-#: in lockstep the controller is given up on after the same wall time
-PLANT_BUSY = ('--set', f'watchdog_s={WATCHDOG_S}', '--set', f'lockstep_patience_s={WATCHDOG_S}')
-UP_BUSY = tuple(a.replace('--set', '--plant-set') for a in PLANT_BUSY)
+
+
+def busy_args(patience_s: float = WATCHDOG_S, flag: str = '--set') -> tuple:
+    """Arguments of ``pneumatic-servo plant`` (``flag='--plant-set'``: of ``up``) for such
+    tests: the watchdog above, and in lockstep the controller given up on after
+    ``patience_s`` of wall time."""
+    return flag, f'watchdog_s={WATCHDOG_S}', flag, f'lockstep_patience_s={patience_s:g}'
+
+
+PLANT_BUSY, UP_BUSY = busy_args(), busy_args(flag='--plant-set')
 #: lockstep runs whose subject is not a dead controller: a healthy one stalled for over 3 s
 #: on a loaded CI machine (two test workers beside the loop), and the run was given up on
-PLANT_PATIENT = ('--set', f'watchdog_s={WATCHDOG_S}', '--set', 'lockstep_patience_s=60')
-UP_PATIENT = tuple(a.replace('--set', '--plant-set') for a in PLANT_PATIENT)
+PLANT_PATIENT, UP_PATIENT = busy_args(60.0), busy_args(60.0, '--plant-set')
 
 _counter = itertools.count()
 #: domains 40-99, or half of them for each of two pytest-xdist workers (gw0, gw1)
