@@ -64,7 +64,26 @@ def diagnosed():
     return get
 
 
+def test_a_hidden_load_torque_is_named_among_three_candidates():
+    """The first tier's naming test (the studies name every kind against the whole
+    catalogue): a short 250 Hz closed-loop record and sine of a rig with a load torque,
+    three candidates. The torque is named, its value recovered, and it halves the error."""
+    from pneumatic_servo.synth.hidden import make_hidden_set
+    torque = {'external_load_torque': {'load_torque_n_m': 0.4}}
+    exps = make_hidden_set(torque, seed=5, designs=('closed_loop', 'sine'),
+                           durations={'closed_loop': 4.0, 'sine': 3.0}, rate_hz=250.0)
+    result = diagnose(exps, effects=['external_load_torque', 'external_leakage',
+                                     'piston_seal_leakage'],
+                      options=DiagnoseOptions(discover=False))
+    assert result.status == 'explained' and result.verdict == 'external_load_torque', \
+        result.reason
+    fitted = result.winner.params['external_load_torque.load_torque_n_m']
+    assert fitted == pytest.approx(0.4, rel=0.25)
+    assert result.ladder[-1]['overall'] <= 0.5 * result.ladder[0]['overall']
+
+
 # ---------------------------------------------------------------- one hidden effect
+@pytest.mark.study
 @pytest.mark.parametrize('effect', EFFECTS)
 def test_hidden_effect_is_named_recovered_and_cuts_the_error(effect, diagnosed):
     result, truth, _ = diagnosed(effect)
@@ -82,6 +101,7 @@ def test_hidden_effect_is_named_recovered_and_cuts_the_error(effect, diagnosed):
     assert added['overall'] <= 0.5 * base['overall']
 
 
+@pytest.mark.study
 def test_static_tables_are_diagnosed_with_the_bags(diagnosed):
     result, _, exps = diagnosed('valve_null_offset')
     assert {e.circuit for e in exps} >= {'servo', 'blocked', 'closed_port', 'flow'}
@@ -89,6 +109,7 @@ def test_static_tables_are_diagnosed_with_the_bags(diagnosed):
     assert result.verdict == 'valve_null_offset'
 
 
+@pytest.mark.study
 def test_clean_data_raise_no_alarm(diagnosed):
     result, truth, _ = diagnosed('none')
     assert truth == {}
@@ -99,6 +120,7 @@ def test_clean_data_raise_no_alarm(diagnosed):
     assert result.to_json()['tests']['base']['departs'] is False
 
 
+@pytest.mark.study
 def test_indistinguishable_pair_is_reported_with_an_experiment(diagnosed):
     """A command delay and a measurement delay explain servo records equally well: the
     diagnosis says so and suggests the supply step that the blocked record holds, which
@@ -112,6 +134,7 @@ def test_indistinguishable_pair_is_reported_with_an_experiment(diagnosed):
     assert full.verdict == 'transport_delay' and 'sensor_delay' not in full.ambiguous_with
 
 
+@pytest.mark.study
 def test_result_follows_the_json_contract(diagnosed):
     result, _, _ = diagnosed('external_load_torque')
     data = json.loads(json.dumps(result.to_json(), default=float))
@@ -128,6 +151,7 @@ def test_result_follows_the_json_contract(diagnosed):
 
 
 # --------------------------------------------------------------- two hidden effects
+@pytest.mark.study
 def test_two_hidden_effects_are_found_in_two_rounds(diagnosed, tmp_path):
     first, truth, exps = diagnosed('two_external_load_torque+piston_seal_leakage')
     assert first.verdict in truth
@@ -175,6 +199,7 @@ class ReturnSpring(Component):
     mechanics = _spring_hook
 
 
+@pytest.mark.study
 def test_users_own_effect_takes_part(tmp_path):
     registry.register(ReturnSpring)
     try:
@@ -204,6 +229,7 @@ def _cli(*args, cwd):
                           text=True, timeout=300, env=env)
 
 
+@pytest.mark.study
 def test_cli_diagnose_apply_and_again(tmp_path):
     root = DATA / 'external_load_torque'
     bags = [root / 'closed_loop', root / 'sine', root / 'blocked']
@@ -234,6 +260,7 @@ def test_cli_diagnose_apply_and_again(tmp_path):
     assert json.loads((tmp_path / 'again.json').read_text())['verdict'] == 'none'
 
 
+@pytest.mark.study
 def test_a_record_with_gas_temperatures_is_diagnosed(tmp_path):
     """Chamber temperatures are compared channels like the pressures (in K, not below a
     0.5 K floor): a blocked-piston record that holds them is diagnosed and its floor
@@ -246,6 +273,7 @@ def test_a_record_with_gas_temperatures_is_diagnosed(tmp_path):
     assert data['status'] in ('consistent', 'explained', 'partly_explained', 'unexplained')
 
 
+@pytest.mark.study
 def test_the_floor_is_measured_on_as_many_replicas_as_asked(tmp_path):
     """``--replicas`` buys power for time (docs/diagnosis.md): the floor the record is
     judged against is measured on that many replicas, and the JSON says so."""
@@ -270,6 +298,7 @@ def test_cli_bad_input_is_one_line_and_exit_2(args, words, tmp_path):
     assert words in lines[0]
 
 
+@pytest.mark.study
 def test_free_base_parameter_is_refitted(diagnosed):
     _, _, exps = diagnosed('external_load_torque')
     key = 'stribeck_friction.coulomb_friction_n'
@@ -298,6 +327,7 @@ def test_compare_report_shows_where_it_fails(tmp_path):
     assert spot['error_share']['angle'] > 1.5 * spot['time_share']
 
 
+@pytest.mark.study
 def test_discrepancy_workflow_finds_the_hidden_effect_and_stops(tmp_path):
     from pneumatic_servo.workflow import run_discrepancy_demo
     lines = []

@@ -321,6 +321,7 @@ def test_user_defined_effect_registers_and_acts_without_editing_the_package():
         effects._REGISTRY.pop(TorsionSpring.name, None)
 
 
+@pytest.mark.study
 @pytest.mark.parametrize('name', [n for n in CATALOGUE_NAMES if effects.get(n).neutral])
 def test_declared_neutral_values_add_exactly_nothing(name):
     """An effect at its declared ``neutral`` values reproduces the model without it."""

@@ -58,6 +58,7 @@ def check_rows(out: dict, fleet: Path) -> dict:
     return by_path
 
 
+@pytest.mark.study
 def test_local_cluster_tracks_the_fleet_and_alerts_the_degrading_rigs_only(fleet, tmp_path):
     proc = cli(fleet, '--store', tmp_path / 'rows.jsonl', *TRACK, *LIMITS, '--workers', 2,
                '--json', tmp_path / 'fleet.json', '--table', tmp_path / 'fleet.parquet',
@@ -294,6 +295,7 @@ def test_bad_recordings_are_rows_with_their_reason(tmp_path):
         assert words in rows[name]['error'] and '\n' not in rows[name]['error'], rows[name]
 
 
+@pytest.mark.study
 def test_diagnose_per_recording_keeps_the_status(fleet, tmp_path):
     """``--diagnose`` on the leaking rig's last day: the row, the table and the page carry
     the status with the verdict (verdict 'none' alone would hide an 'unexplained')."""
@@ -317,6 +319,7 @@ def test_diagnose_per_recording_keeps_the_status(fleet, tmp_path):
     assert 'explained: piston_seal_leakage' in page
 
 
+@pytest.mark.study
 def test_a_first_run_needs_no_store(fleet, tmp_path):
     """Without --store the rows go beside --json (NAME_rows.jsonl), else into the --report
     directory, else into the current directory; the first line says where, and a rerun

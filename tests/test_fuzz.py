@@ -69,6 +69,7 @@ def valid_configs(draw):
     return cfg
 
 
+@pytest.mark.study
 @FUZZ
 @given(cfg=valid_configs(), volts=st.floats(0.0, 10.0))
 def test_valid_configs_simulate_to_finite_physical_states(cfg, volts):

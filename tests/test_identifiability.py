@@ -21,6 +21,7 @@ ROOT = Path(__file__).resolve().parents[1]
 DEMO = ROOT / 'bags' / 'validation_demo'
 
 
+@pytest.mark.study
 def test_a_parameter_outside_the_circuit_is_not_determined():
     """Closed-port data hold chamber a only: chamber b's leak is reported as not identifiable,
     with the reason and the record that would determine it, and left out of the criterion."""
@@ -98,6 +99,7 @@ def validated():
                     validate_on=[read_experiment(DEMO / 'blocked_table.csv')])
 
 
+@pytest.mark.study
 def test_found_on_one_circuit_confirmed_on_another(validated):
     result = validated
     assert result.verdict == 'external_leakage' and result.status == 'explained'
@@ -109,6 +111,7 @@ def test_found_on_one_circuit_confirmed_on_another(validated):
     assert result.validated_on == ['blocked_table']
 
 
+@pytest.mark.study
 def test_an_effect_that_only_overfits_one_experiment_is_flagged(validated):
     offset = next(c for c in validated.ranking if c.effect == 'valve_null_offset')
     assert offset.error_reduction > 0.2  # it helps the diagnosed table

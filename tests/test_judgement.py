@@ -32,6 +32,7 @@ CLEAN = [
 ]
 
 
+@pytest.mark.study
 @pytest.mark.parametrize('rec', CLEAN, ids=lambda r: r.label)
 def test_clean_records_of_varied_designs_are_consistent(rec):
     result = diagnose([make_record(rec)], options=DiagnoseOptions(discover=False))
@@ -41,6 +42,7 @@ def test_clean_records_of_varied_designs_are_consistent(rec):
     assert not tests['departs'] and 'overall' in tests
 
 
+@pytest.mark.study
 def test_an_effect_in_one_channel_alone_is_not_consistent():
     """A load torque on a pressure-controlled loop shows in the angle first; the pooled
     residual, dominated by two pressure channels, must not hide it."""
@@ -53,6 +55,7 @@ def test_an_effect_in_one_channel_alone_is_not_consistent():
     assert base['departs']
 
 
+@pytest.mark.study
 def test_a_whole_answer_is_judged_with_its_fits_scatter():
     """A leak of 0.4 x the example size in a closed loop (a record of the power study): the
     rough stick-slip cost leaves the fitted areas 8 % and 16 % off, and against a floor that
@@ -71,6 +74,7 @@ def test_a_whole_answer_is_judged_with_its_fits_scatter():
     assert fixed.departs  # the same remainder against the floor of fixed values
 
 
+@pytest.mark.study
 def test_a_generic_term_must_beat_a_named_effect_fitted_where_its_own_cost_is_lowest():
     """A load torque of 0.7 x the example size (0.175 N.m): on the rough stick-slip cost the
     named effect's fit can stop in a local minimum a few per cent off (from 0.182 N.m it

@@ -355,6 +355,7 @@ def test_the_hidden_effect_bag_departs(paper):
     assert mon.sensors.quantum['angle'] == pytest.approx(2 * math.pi / 20000, rel=1e-6)
 
 
+@pytest.mark.study
 def test_with_its_own_truth_the_hidden_effect_bag_does_not_depart():
     from pneumatic_servo.io import read_series
     from pneumatic_servo.synth.hidden import hidden_config

@@ -45,6 +45,7 @@ def spring():
     registry._REGISTRY.pop(PreloadedSpring.name, None)
 
 
+@pytest.mark.study
 def test_one_class_is_simulated_generated_fitted_and_diagnosed(spring):
     # simulated: adding it changes the motion
     t = np.arange(0.0, 0.5, 1e-3)

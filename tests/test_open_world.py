@@ -48,6 +48,7 @@ def test_the_leading_term_is_the_shape_the_correction_follows():
     assert leading(arm) == 'constant'
 
 
+@pytest.mark.study
 @pytest.mark.parametrize('cls', list(EXPECTED), ids=lambda c: c.__name__)
 def test_unlisted_effect_is_located_and_never_misnamed(cls, unlisted):
     result = unlisted(cls)
@@ -65,6 +66,7 @@ def test_unlisted_effect_is_located_and_never_misnamed(cls, unlisted):
     assert result.ladder[-1]['overall'] <= 0.5 * result.ladder[0]['overall']
 
 
+@pytest.mark.study
 def test_the_report_shows_the_learned_shape_with_its_band(unlisted, tmp_path):
     """The correction's 95 % band comes from its coefficients' covariance: the variance of
     each coefficient alone is its squared standard error, and the plot is drawn from it."""
@@ -116,6 +118,7 @@ def engaging():
     return exps, diagnose(exps)
 
 
+@pytest.mark.study
 def test_where_no_closed_form_fits_the_shape_is_said_fitted_and_emitted(engaging, tmp_path):
     """Shape before formula: the free shape over the stroke fits clearly better than the
     vocabulary's closed form, the reason says so, it leads, it matches the spring where the
@@ -158,6 +161,7 @@ def test_where_no_closed_form_fits_the_shape_is_said_fitted_and_emitted(engaging
     assert errors[1] < 0.5 * errors[0], errors
 
 
+@pytest.mark.study
 def test_where_the_closed_form_fits_it_stands(unlisted):
     """A spring-balanced arm is linear in the angle: a free shape explains no more."""
     from pneumatic_servo.synth.unlisted import ArmSpring
@@ -166,6 +170,7 @@ def test_where_the_closed_form_fits_it_stands(unlisted):
     assert result.discovered[0].leading == 'angle'
 
 
+@pytest.mark.study
 def test_a_sensor_error_is_called_one(unlisted):
     from pneumatic_servo.synth.unlisted import TransmitterOffsetA
     result = unlisted(TransmitterOffsetA)
@@ -177,6 +182,7 @@ def test_a_sensor_error_is_called_one(unlisted):
     assert result.finding.partial and result.verdict == 'none'
 
 
+@pytest.mark.study
 @pytest.mark.parametrize('effect, values', [
     ('valve_spool_dynamics', {'spool_time_constant_s': 0.004}),
     ('piston_seal_leakage', {'seal_leak_area_m2': 1.0e-8}),
@@ -199,6 +205,7 @@ def test_small_certain_effect_is_never_hidden(effect, values):
         assert strict.suggested_experiment
 
 
+@pytest.mark.study
 def test_clean_open_loop_record_is_consistent():
     exps = make_hidden_set({}, seed=21, designs=('sine',), durations={'sine': 4.0},
                            rate_hz=250.0)

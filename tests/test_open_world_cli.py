@@ -8,6 +8,8 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
 from pneumatic_servo.analysis.diagnosis.interpret import leading
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -20,6 +22,7 @@ def _cli(*args, cwd):
                           env=dict(os.environ, PYTHONWARNINGS='ignore'))
 
 
+@pytest.mark.study
 def test_walkthrough_emit_rename_and_watch_the_error_fall(tmp_path):
     """The README path on the bundled bag: unexplained -> the discovered term -> the emitted
     effect, renamed by the user -> it takes part like a built-in and the error falls."""
@@ -51,6 +54,7 @@ def test_walkthrough_emit_rename_and_watch_the_error_fall(tmp_path):
         assert fit['after'][ch]['rmse'] < 0.5 * fit['before'][ch]['rmse'], ch
 
 
+@pytest.mark.study
 def test_memory_walkthrough_unexplained_shape_closed_form_emitted_error_falls(tmp_path):
     """The README's memory walkthrough on bags/hysteresis_demo: a solenoid's hysteresis is
     unexplained, located in the valve input as the direction the command last moved, shown

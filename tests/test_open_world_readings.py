@@ -32,6 +32,7 @@ class LaggingTransmitterB(Component):
     sensor_error = _first_order_lag('p_b_pa')
 
 
+@pytest.mark.study
 def test_a_lagging_pressure_transmitter_is_read_as_a_lag_of_its_reading():
     """A lag as fast as the closed loop's steps is far from its first-order rate there; the
     lag operator on the reading writes it (``terms.lag``): located in chamber b's reading,
@@ -106,6 +107,7 @@ def _blocked_record(cls, seed=3):
     return Experiment(t, signals, 'blocked', cls.name, False, {'blocked_angle_rad': angle})
 
 
+@pytest.mark.study
 def test_a_lagging_temperature_sensor_is_found_in_its_reading():
     """Where a record holds the gas temperatures, each has its measurement equation: a
     thermocouple's lag is read as one, with its time constant."""
@@ -117,6 +119,7 @@ def test_a_lagging_temperature_sensor_is_found_in_its_reading():
     assert 'temperature reads' in best.interpretation and 'ms late' in best.interpretation
 
 
+@pytest.mark.study
 def test_a_heat_flow_is_found_in_the_energy_balance_and_only_where_temperatures_are_read():
     """A heat sink on chamber a moves its pressure as a leak would; with the gas
     temperature read, the energy balance tells them apart and takes it, with the plate's
@@ -156,6 +159,7 @@ class LoadedGearFriction(Component):
     mechanics = _gear_friction_hook
 
 
+@pytest.mark.study
 def test_a_reading_the_records_cannot_tell_from_the_chosen_one_is_said_beside_it():
     """On an open-loop chirp the load drives the motion nearly all the time, so a friction
     that grows with |p_a - p_b| reads as a piston torque a few per cent smaller: the
@@ -199,6 +203,7 @@ class GaugeGainA(Component):
     sensor_error = staticmethod(_gauge_gain_a)
 
 
+@pytest.mark.study
 def test_a_gauge_transmitters_gain_error_is_read_over_its_span():
     """A transmitter's gain error scales the pressure above atmosphere. Read as a gain of
     the absolute pressure it comes out a fifth smaller, and on an open-loop chirp, where the

@@ -150,6 +150,7 @@ def check_diagnosis(new: dict, old: dict):
                                                             abs=0.005), r_old['model']
 
 
+@pytest.mark.study
 def test_diagnose_gives_the_recorded_numbers(tmp_path):
     """Both rounds of the main job's diagnosis of the bundled hidden-effect bag."""
     first = tmp_path / 'round1.json'

@@ -20,8 +20,11 @@ import subprocess
 import sys
 import time
 
-#: [s] longest wait for the helper to finish one composition before compiling here
-WAIT_S = 120.0
+#: [s] longest wait for the helper to finish one composition before compiling here. Only a
+#: hung helper costs it (one that fails ends its output at once); it is long because a slow
+#: one is still the fastest way to the code: on a loaded 2-core machine a composition took
+#: over 120 s to compile, and a helper stopped then had its work done again here
+WAIT_S = 600.0
 
 _helper: subprocess.Popen | None = None
 _pending: set[str] = set()
