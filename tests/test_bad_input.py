@@ -5,7 +5,9 @@ One parametrised suite over the classes an adversarial review found (physically 
 measurements, unclosed recordings, checks with nothing to check, nonsense that identify
 would write, YAML as engineers write it, user modules that fail, undecodable and special
 files, outputs that cannot be written, huge tables, multi-line messages) and more. Each case
-runs the real command line in a subprocess on real files made here.
+runs the real command line in a process of its own on real files made here: forked from a
+server that has imported the package (``forked_cli``), so that the interpreter's start is
+paid once; the replay cases and one plain case run it as a fresh interpreter.
 """
 import os
 import shutil
@@ -15,6 +17,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from forked_cli import ForkedCli
 
 from pneumatic_servo.experiment import Experiment
 from pneumatic_servo.io import read_experiment, write_experiment
@@ -24,11 +27,24 @@ BAGS = ROOT / 'bags'
 CLI = 'import sys; from pneumatic_servo.cli import main; sys.exit(main(sys.argv[1:]))'
 
 
-def run(*argv, cwd):
+def _env() -> dict:
     env = dict(os.environ, PYTHONWARNINGS='ignore')
     env.pop('PNEUMATIC_SERVO_DEBUG', None)
-    return subprocess.run([sys.executable, '-c', CLI, *map(str, argv)], cwd=cwd, env=env,
+    return env
+
+
+def run(*argv, cwd):
+    """``pneumatic-servo argv`` as a fresh interpreter."""
+    return subprocess.run([sys.executable, '-c', CLI, *map(str, argv)], cwd=cwd, env=_env(),
                           capture_output=True, text=True, timeout=300)
+
+
+@pytest.fixture(scope='module')
+def forked():
+    """``forked.run(*argv, cwd=...)``: the command line, forked from an imported server."""
+    cli = ForkedCli(_env())
+    yield cli
+    cli.close()
 
 
 # ------------------------------------------------------------------------- the files
@@ -351,13 +367,17 @@ CASES = [
 ]
 
 
+#: the case also run as a fresh interpreter, as a user runs it (the others are forked)
+FRESH_CASE = 'pressure_in_kpa'
+
+
 @pytest.mark.parametrize('case, argv, words, outputs', CASES, ids=[c[0] for c in CASES])
 def test_bad_input_is_one_line_exit_2_and_leaves_nothing(case, argv, words, outputs, files,
-                                                         tmp_path):
+                                                         forked, tmp_path):
     (tmp_path / 'OUT').mkdir()
     args = [f'{files[a]}{a.suffix}' if isinstance(a, F) else
             tmp_path / a if isinstance(a, Out) else a for a in argv]
-    proc = run(*args, cwd=tmp_path)
+    proc = (run if case == FRESH_CASE else forked.run)(*args, cwd=tmp_path)
     lines = [ln for ln in proc.stderr.splitlines() if ln.strip()]
     assert proc.returncode == 2, (proc.returncode, proc.stderr[-2000:])
     assert 'Traceback' not in proc.stderr
