@@ -4,8 +4,9 @@ each time: a server process imports the package once, then forks a child for eve
 Each child is the command as a user runs it, minus the start-up: its own process, working
 directory, stdout and stderr, and exit code, with ``sys.exit(main(argv))``'s semantics (an
 uncaught exception prints its traceback and exits 1; the atexit handlers run). Why: the
-bad-input suite runs some 80 commands that each fail in milliseconds, and on a loaded 2-core
-machine starting Python and importing numpy, scipy and the package took 5-8 s of each.
+bad-input suite runs some 80 commands, most of which fail in milliseconds, and on a loaded
+2-core machine starting Python and importing numpy, scipy and the verb's modules took 5-8 s
+of each.
 """
 from __future__ import annotations
 
@@ -21,6 +22,9 @@ from pathlib import Path
 SERVER = r'''
 import atexit, json, os, sys, traceback
 from pneumatic_servo.cli import main
+# what the verbs import, imported once here (not the ROS verbs, nor fleet's Dask, whose
+# threads a fork would not carry over)
+from pneumatic_servo.cli import compare, diagnose, generate, identify, simulate, verify
 
 def child(req):
     os.chdir(req['cwd'])
