@@ -3,9 +3,10 @@ two tiers of the suite.
 
 **Tiers.** ``./run.sh test`` (CI) runs every test not marked ``study``; ``./run.sh study``
 runs those. A study is an acceptance test at full size: a whole diagnosis with the catalogue
-(3-10 min each on a loaded 2-core machine with an empty kernel cache), a fleet on a local
-cluster, minutes of a monitor beside a running loop. Each feature keeps a cheaper test of
-its behaviour in the first tier; the studies hold the claims the docs make of its size.
+(2-11 min each on a loaded 2-core machine, the most with an empty kernel cache), a fleet on
+a local cluster, minutes of a monitor beside a running loop. Each feature keeps a cheaper
+test of its behaviour in the first tier, but for the two gaps the README names; the studies
+hold the claims the docs make of its size.
 """
 import os
 
