@@ -59,16 +59,9 @@ for line in sys.stdin:
 '''
 
 
-class Result:
-    """What ``subprocess.run(..., capture_output=True, text=True)`` gives: the exit code,
-    stdout and stderr of one call."""
-
-    def __init__(self, returncode: int, stdout: str, stderr: str):
-        self.returncode, self.stdout, self.stderr = returncode, stdout, stderr
-
-
 class ForkedCli:
-    """``run(*argv, cwd=...)``: ``pneumatic-servo argv`` in a fresh forked process."""
+    """``run(*argv, cwd=...)``: ``pneumatic-servo argv`` in a fresh forked process, its
+    result as ``subprocess.run(..., capture_output=True, text=True)`` gives it."""
 
     def __init__(self, env: dict):
         self.server = subprocess.Popen([sys.executable, '-c', SERVER], env=env, text=True,
@@ -84,7 +77,7 @@ class ForkedCli:
             raise RuntimeError(f'the CLI server ended (exit {self.server.wait()})')
         return json.loads(line)
 
-    def run(self, *argv, cwd, timeout: float = 300.0) -> Result:
+    def run(self, *argv, cwd, timeout: float = 300.0) -> subprocess.CompletedProcess:
         out, err = self.outputs / 'stdout', self.outputs / 'stderr'
         self.server.stdin.write(json.dumps({'argv': [str(a) for a in argv], 'cwd': str(cwd),
                                             'out': str(out), 'err': str(err)}) + '\n')
@@ -95,7 +88,7 @@ class ForkedCli:
         except TimeoutError:
             os.kill(pid, signal.SIGKILL)
             raise
-        result = Result(rc, out.read_text(), err.read_text())
+        result = subprocess.CompletedProcess(argv, rc, out.read_text(), err.read_text())
         out.unlink()
         err.unlink()
         return result
