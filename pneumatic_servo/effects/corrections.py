@@ -17,8 +17,8 @@ Equations (each a component, named ``correction_<equation>``):
 
 Every coefficient is in SI units of the equation per unit of its term, is zero by
 default (the correction then adds exactly nothing) and is bounded by ten times the size
-a plausible correction has. A correction whose terms include the command's memory owns
-that memory as a state.
+a plausible correction has. A correction whose terms include a memory of the command
+(its direction, a lag of it) owns that memory as a state.
 
 The hooks are generated from the terms' expressions (:func:`hook_source`, also what
 ``diagnose --emit-effect`` writes) and compiled once per machine. The classes are
@@ -35,7 +35,7 @@ import numpy as np
 
 from .. import _jit
 from . import layout, terms
-from .base import Component, Param, State
+from .base import Component, Param
 from .terms import Term, offered, term_values
 
 
@@ -73,8 +73,14 @@ class Equation:
         return offered(self.name, self.signal is not None, self.generic)
 
     @property
-    def memory(self) -> bool:
-        return any(t.memory for t in self.terms)
+    def memories(self) -> list:
+        """The memories of the command its terms use (:func:`memories`)."""
+        return memories(self.terms)
+
+
+def memories(used) -> list:
+    """The memory variables ``used`` terms need, in the order of their states."""
+    return [v for v in terms.VARIABLES if any(v in t.memories for t in used)]
 
 
 EQUATIONS = (
@@ -150,17 +156,19 @@ def hook_source(eq: Equation, used: list[Term], name: str = '_correction',
     same). The package's hooks carry every term of the vocabulary, and a screening
     simulation sets one of them; emitted files carry only the terms in use.
     """
+    index = {v.name: f's + {i}' for i, v in enumerate(memories(used))}  # of the states
     lines = [f'def {name}(t, x, s, p, P, c, dx):',
              f'    """Add the correction: {eq.description} [{eq.unit}]."""',
-             *(f'    {v.name} = {v.compiled}' for v in terms.variables_of(used))]
+             *(f'    {v.name} = ' + (v.compiled_at(f'x[{index[v.name]}]') if v.name in index
+                                      else v.compiled) for v in terms.variables_of(used))]
     if skip_zero:
         lines += ['    term = 0.0', *(f'    if p[{i}] != 0.0:\n        term += p[{i}] * '
                                       f'{t.expression}' for i, t in enumerate(used))]
     else:
         lines.append('    term = ' + (' + '.join(f'p[{i}] * {t.expression}'
                                                 for i, t in enumerate(used)) or '0.0'))
-    if any(t.memory for t in used):
-        lines.append('    dx[s] = memory_rate(c[C_U] - x[s], COMMAND_PLAY_V)')
+    lines += [f'    dx[{i}] = {terms.BY_VARIABLE[v].follows.format(m=f"x[{i}]")}'
+              for v, i in index.items()]
     lines.append(f'    {eq.statement}')
     return '\n'.join(lines) + '\n'
 
@@ -235,13 +243,8 @@ class Correction(Component):
 
     @classmethod
     def initial_state(cls, values, command_v, supply_pa, core):
-        # the command's memory starts at the command: no direction yet
+        # the command's memories start at the command: no direction, nothing late yet
         return [float(command_v)] * len(cls.states)
-
-
-#: the command's memory: a millivolt is finer than any valve's resolution
-MEMORY_STATE = State('command_memory_v', 'V', 1e-3, 'the command as last left by its play '
-                     '(the memory of the direction it moved in)')
 
 
 def _correction_class(eq: Equation, hooks: dict) -> type[Component]:
@@ -249,7 +252,7 @@ def _correction_class(eq: Equation, hooks: dict) -> type[Component]:
     attrs = {'name': f'correction_{eq.name}', 'equation': eq, 'params': params,
              'neutral': {p.name: 0.0 for p in params}, 'acts_on': eq.acts_on,
              'circuits': eq.circuits, 'order': eq.order,
-             'states': (MEMORY_STATE,) if eq.memory else (),
+             'states': tuple(v.memory for v in eq.memories),
              '__doc__': f'Generic correction: {eq.description} [{eq.unit}], a linear '
                         'combination of the terms.'}
     if eq.signal is None:

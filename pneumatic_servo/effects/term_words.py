@@ -229,6 +229,47 @@ def windowed_orifice_flow(k: int, windows: int):
     return words
 
 
+def windowed_vent_flow(chamber: str):
+    """A leak from ``chamber`` to atmosphere over part of the stroke (per window)."""
+    def by_window(k: int, windows: int):
+        def words(x: Context) -> str:
+            return (f'a leak {"into" if x.c > 0 else "out of"} chamber {chamber} '
+                    f'{"from" if x.c > 0 else "to"} atmosphere that exists only '
+                    + part(k, windows, x.core) + ': a scored bore or end cover, or a port '
+                    'the vane uncovers there')
+        return words
+    return by_window
+
+
+def windowed_damping_torque(k: int, windows: int):
+    def words(x: Context) -> str:
+        return (f'a torque proportional to speed, {x.c:+.3g} N.m.s/rad, only '
+                + part(k, windows, x.core) + ': '
+                + ('a damper, drag or linkage that acts there' if x.c < 0 else
+                   'less damping there than the model has'))
+    return words
+
+
+def windowed_friction_torque(k: int, windows: int):
+    def words(x: Context) -> str:
+        return (f'a torque of {abs(x.c):.3g} N.m that {"opposes" if x.c < 0 else "aids"} '
+                'the motion only ' + part(k, windows, x.core) + ': '
+                + ('a rough, dented or tight stretch of the bore or track' if x.c < 0 else
+                   'less friction there than the model has'))
+    return words
+
+
+def command_lag_flow(x: Context) -> str:
+    return (f'a flow {x.into} chamber {x.chamber} that follows the valve command through a '
+            'first-order lag: the flow reaches the chamber later than the model has it (a '
+            'long line between valve and chamber, or a slower spool)')
+
+
+def command_lag_valve(x: Context) -> str:
+    return ('the valve opens later than the command says: its spool follows the command '
+            'through a first-order lag the model does not have')
+
+
 # --- the valve command -------------------------------------------------------------------------
 def command_flow(x: Context) -> str:
     return (f'a flow {x.into} chamber {x.chamber} that follows the valve command: the '

@@ -14,15 +14,17 @@ declared twice. The blocks:
   shape** over it (piecewise linear, fitted together where no closed form fits);
 * **memory**: the direction in which the valve command last moved (a play
   operator of width :data:`COMMAND_PLAY_V`: magnetic hysteresis of a
-  proportional solenoid), and the direction in which the shaft last moved (a
-  play of :data:`MOTION_PLAY_RAD`: backlash between shaft and encoder);
+  proportional solenoid), the command through first-order lags
+  (:data:`COMMAND_LAGS_S`: what reaches a chamber late), and the direction in
+  which the shaft last moved (a play of :data:`MOTION_PLAY_RAD`: backlash
+  between shaft and encoder);
 * **products** of the above where a physical effect is one: friction that
   grows with chamber pressure, a leak across the vane over part of the stroke;
 * **dynamics of a sensor**: the rate of change of a chamber pressure (a transmitter that
   lags by tau reads, to first order, -tau times it).
 
-The command's memory is a state of the correction (an ODE that follows the
-command outside its play band); the shaft's is evaluated over the record, so
+The command's memories are states of the correction (ODEs that follow the
+command: :attr:`Variable.memory`); the shaft's is evaluated over the record, so
 it is offered to the sensor equations only.
 """
 from __future__ import annotations
@@ -36,6 +38,7 @@ import numpy as np
 
 from .._jit import njit
 from . import term_words as w
+from .base import State
 
 #: [rad/s] and [V]: widths over which the direction of motion and the side of the valve
 #: centre change sign (tanh), so that a correction never makes the equations discontinuous
@@ -63,6 +66,10 @@ RATE_WINDOW_S = 0.021
 #: thermocouple's 60 ms lag on a blocked record fitted as 114 ms, each window starting
 #: from the lagged reading; their rate reads it right, if it explains less)
 LAGS_S = {'p_a': (0.005, 0.02), 'p_b': (0.005, 0.02)}
+#: [s] time constants of the first-order lags of the valve command offered to the flows and
+#: the valve input: what reaches a chamber late (a slow spool, a long line between valve and
+#: chamber), at the order of a small valve's spool and of a few metres of hose
+COMMAND_LAGS_S = (0.005, 0.02)
 #: the signal each lagged reading is of, a typical rate of change [unit/s] and the unit
 _READINGS = {'p_a': ('p_a_pa', 2e6, 'Pa'), 'p_b': ('p_b_pa', 2e6, 'Pa')}
 
@@ -183,6 +190,16 @@ class Variable:
     room: bool = False
     #: [s] the time constant of the first-order lag its signal is read through (None: none)
     lag_s: float | None = None
+    #: a memory of the valve command, a state of the correction that uses it: what the
+    #: state is (:class:`.base.State`) and the rate [V/s] at which it follows the command,
+    #: an expression of ``{m}`` (the state's value) like :attr:`compiled`; the state starts
+    #: at the command
+    memory: 'State | None' = None
+    follows: str = ''
+
+    def compiled_at(self, state: str) -> str | None:
+        """Its compiled expression with its memory held in ``state`` (``x[s + i]``)."""
+        return None if self.compiled is None else self.compiled.format(m=state)
 
 
 VARIABLES = (
@@ -195,8 +212,18 @@ VARIABLES = (
              "signals['command_v'] - core['valve_null_voltage_v']", 'command_v'),
     Variable('supply', 'c[C_PS]', "signals['supply_pa']", 'supply_pa', True),
     Variable('stroke', 'P[K_STROKE]', "core['stroke_rad']"),
-    Variable('command_direction', 'memory_direction(c[C_U] - x[s], COMMAND_PLAY_V)',
-             "direction(signals['command_v'], COMMAND_PLAY_V)", 'command_v'),
+    Variable('command_direction', 'memory_direction(c[C_U] - {m}, COMMAND_PLAY_V)',
+             "direction(signals['command_v'], COMMAND_PLAY_V)", 'command_v',
+             memory=State('command_memory_v', 'V', 1e-3, 'the command as last left by its '
+                          'play (the memory of the direction it moved in)'),
+             follows='memory_rate(c[C_U] - {m}, COMMAND_PLAY_V)'),
+    *(Variable(f'command_lag_{1e3 * tau:.0f}ms', '({m} - P[K_NULL])',
+               f"lag(signals['command_v'], signals.get('t_s'), {tau}) "
+               "- core['valve_null_voltage_v']", 'command_v', lag_s=tau,
+               memory=State(f'command_lag_{1e3 * tau:.0f}ms_v', 'V', 1e-3,
+                            f'the command through a first-order lag of {1e3 * tau:.0f} ms'),
+               follows=f'(c[C_U] - {{m}}) / {tau}')
+      for tau in COMMAND_LAGS_S),
     Variable('motion_direction', None, "direction(signals['angle_rad'], MOTION_PLAY_RAD)",
              'angle_rad'),
     Variable('p_a_rate', None, "rate(signals['p_a_pa'], signals.get('t_s'))", 'p_a_pa'),
@@ -257,9 +284,9 @@ class Term:
         return all(BY_VARIABLE[v].compiled is not None for v in self.variables)
 
     @property
-    def memory(self) -> bool:
-        """Whether it needs the command's memory state."""
-        return 'command_direction' in self.variables
+    def memories(self) -> list[Variable]:
+        """The variables it uses that are memories of the command (states)."""
+        return [BY_VARIABLE[v] for v in self.variables if BY_VARIABLE[v].memory is not None]
 
     @property
     def lag_s(self) -> float | None:
@@ -278,6 +305,18 @@ class Term:
         None (see :attr:`says`)."""
         words = self.says.get(kind)
         return words(context) if words is not None else None
+
+
+def windowed(base: str, unit: str, typical: float, expression: str, words: str,
+             meaning: str, equations: tuple[str, ...], kind: str, says) -> tuple[Term, ...]:
+    """The products of a function (``base``, its ``expression``, ``unit``, ``typical``
+    size and ``words``) with each window over the stroke: what ``meaning`` describes, only
+    over part of it. ``says(k, windows)`` gives their words in equations of ``kind``. A
+    product's pairing is a choice made on the data, so each costs two parameters."""
+    return tuple(Term(f'{base}_in_window_{k}', unit, typical,
+                      f'{words} over part {k + 1} of {N_WINDOWS} of the stroke ({meaning})',
+                      f'{expression} * window(angle, stroke, {k})', equations, 2,
+                      says={kind: says(k, N_WINDOWS)}) for k in range(N_WINDOWS))
 
 
 _FLOWS = ('mass_balance_a', 'mass_balance_b')
@@ -331,12 +370,19 @@ TERMS = (
            ('moment_balance', 'measurement_angle'), 2,
            says={'torque': w.window_torque(k, N_WINDOWS),
                  'reading': w.window_reading(k, N_WINDOWS)}) for k in range(N_WINDOWS)),
-    *(Term(f'sqrt_pressure_difference_in_window_{k}', 'Pa^0.5', 550.0,
-           f'signed square root of p_a - p_b over part {k + 1} of {N_WINDOWS} of the stroke '
-           '(an orifice between the chambers there)',
-           f'signed_sqrt(p_a - p_b) * window(angle, stroke, {k})', _FLOWS, 2,
-           says={'flow': w.windowed_orifice_flow(k, N_WINDOWS)})
-      for k in range(N_WINDOWS)),
+    # products with a window: what acts only over part of the stroke
+    *windowed('sqrt_pressure_difference', 'Pa^0.5', 550.0, 'signed_sqrt(p_a - p_b)',
+              'signed square root of p_a - p_b', 'an orifice between the chambers', _FLOWS,
+              'flow', w.windowed_orifice_flow),
+    *(t for k in 'ab' for t in windowed(
+        f'sqrt_drop_{k}', 'Pa^0.5', 600.0, f'signed_sqrt(p_{k} - p_atm)',
+        f'signed square root of p_{k} - p_atm', f'an orifice from chamber {k} to atmosphere',
+        (f'mass_balance_{k}',), 'flow', w.windowed_vent_flow(k))),
+    *windowed('velocity', 'rad/s', 2.0, 'velocity', 'shaft speed', 'damping there',
+              ('moment_balance',), 'torque', w.windowed_damping_torque),
+    *windowed('sign_velocity', '1', 1.0, f'np.tanh(velocity / {SIGN_VELOCITY_WIDTH})',
+              'direction of motion', 'friction there', ('moment_balance',), 'torque',
+              w.windowed_friction_torque),
     # products: friction that grows with the chambers' pressure
     Term('sign_velocity_times_mean_pressure', 'Pa', 3e5,
          'direction of motion times the mean chamber pressure above atmosphere (seal '
@@ -356,6 +402,13 @@ TERMS = (
     Term('command_direction', '1', 1.0, 'direction in which the command last moved '
          '(hysteresis)', 'command_direction', ('valve_input',) + _FLOWS, 2,
          says={'flow': w.hysteresis_flow, 'valve': w.hysteresis_valve}),
+    # what reaches a chamber late: the command through a lag, minus the command (a
+    # coefficient c on a lag of tau is, to first order, c tau times the command's rate)
+    *(Term(f'lag_{1e3 * tau:.0f}ms_command', 'V', 10.0 * tau, f'valve command through a '
+           f'first-order lag of {1e3 * tau:.0f} ms, minus the command (what arrives late)',
+           f'(command_lag_{1e3 * tau:.0f}ms - command)', ('valve_input',) + _FLOWS, 2,
+           says={'flow': w.command_lag_flow, 'valve': w.command_lag_valve})
+      for tau in COMMAND_LAGS_S),
     Term('motion_direction', '1', 1.0, 'direction in which the shaft last moved (play)',
          'motion_direction', ('measurement_angle',), 2, says={'reading': w.play_reading}),
     # a free shape over the stroke: where no closed form fits (the shape stage)

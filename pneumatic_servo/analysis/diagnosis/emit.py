@@ -10,9 +10,9 @@ from __future__ import annotations
 
 from ...effects.corrections import (
     BY_EQUATION,
-    MEMORY_STATE,
     hook_source,
     imports,
+    memories,
     sensor_source,
 )
 from ...effects.terms import BY_NAME
@@ -69,16 +69,16 @@ def effect_source(term: Discovered, found_on: list[str]) -> str:
               f'    neutral = {{{neutral}}}\n'
               f'    example = {{{example}}}\n')
     used = [BY_NAME[reg] for reg in term.terms]
-    memory = any(t.memory for t in used)
+    states = [v.memory for v in memories(used)]
     code = sensor_source(eq, used) if eq.signal is not None else hook_source(eq, used)
     body = common + (f'    {eq.stage} = _correction\n' if eq.signal is None else
                      '    sensor_error = staticmethod(_sensor_error)\n')
-    if memory:  # the command's memory is a state of the effect, starting at the command
-        body += (f'    states = ({MEMORY_STATE!r},)\n\n'
+    if states:  # the command's memories are states of the effect, starting at the command
+        body += (f'    states = ({", ".join(map(repr, states))},)\n\n'
                  '    @classmethod\n'
                  '    def initial_state(cls, values, command_v, supply_pa, core):\n'
-                 '        return [float(command_v)]\n')
-    base = 'Component, Param, State' if memory else 'Component, Param'
+                 f'        return [float(command_v)] * {len(states)}\n')
+    base = 'Component, Param, State' if states else 'Component, Param'
     return (header + '\n' + imports(code) + f'from pneumatic_servo.effects import {base}\n\n\n'
             + code + f'\n\nclass {name}(Component):\n'
             f'    """{_sentence(term.interpretation)}"""\n\n' + body)
