@@ -166,15 +166,13 @@ def test_an_emitted_lagging_transmitter_reads_as_the_package_one(tmp_path):
 
 
 def test_an_emitted_memory_correction_simulates_as_the_package_one(tmp_path):
-    """--emit-effect writes the hook from the same text: a valve hysteresis term and a lag
-    of the command (two memories of the command, states of the effect) simulate
-    identically to the correction."""
+    """--emit-effect writes the hook from the same text: a valve hysteresis term (the
+    command's memory, a state of the effect) simulates identically to the correction."""
     name = BY_EQUATION['valve_input'].name
     coefficient = {f'{name}.command_direction_coefficient': -0.08,
-                   f'{name}.lag_20ms_command_coefficient': 0.5,
                    f'{name}.constant_coefficient': 0.01}
     cls = _emitted(_discovered('valve_input', coefficient), tmp_path, 'hyst')
-    assert [s.name for s in cls.states] == ['command_memory_v', 'command_lag_20ms_v']
+    assert [s.name for s in cls.states] == ['command_memory_v']
     registry.register(cls)
     try:
         t = np.arange(0.0, 1.0, 1e-3)
@@ -182,10 +180,8 @@ def test_an_emitted_memory_correction_simulates_as_the_package_one(tmp_path):
         package = ModelConfig.paper().with_effect(name, {
             k.partition('.')[2]: v for k, v in coefficient.items()})
         emitted = ModelConfig.paper().with_effect(cls.name, cls.example)
-        # fixed steps: the package's correction carries every memory of the command as a
-        # state, the emitted one only those it uses, and an adaptive step would differ
-        a, b = simulate(package, t, u, method='fixed'), simulate(emitted, t, u, method='fixed')
-        plain = simulate(ModelConfig.paper(), t, u, method='fixed')
+        a, b = simulate(package, t, u), simulate(emitted, t, u)
+        plain = simulate(ModelConfig.paper(), t, u)
     finally:
         registry._REGISTRY.pop(cls.name, None)
     assert np.allclose(a.states[:, :4], b.states[:, :4], rtol=0, atol=1e-9)

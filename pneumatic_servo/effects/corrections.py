@@ -18,7 +18,7 @@ Equations (each a component, named ``correction_<equation>``):
 Every coefficient is in SI units of the equation per unit of its term, is zero by
 default (the correction then adds exactly nothing) and is bounded by ten times the size
 a plausible correction has. A correction whose terms include a memory of the command
-(its direction, a lag of it) owns that memory as a state.
+(the direction it last moved in) owns that memory as a state.
 
 The hooks are generated from the terms' expressions (:func:`hook_source`, also what
 ``diagnose --emit-effect`` writes) and compiled once per machine. The classes are
@@ -243,7 +243,7 @@ class Correction(Component):
 
     @classmethod
     def initial_state(cls, values, command_v, supply_pa, core):
-        # the command's memories start at the command: no direction, nothing late yet
+        # the command's memories start at the command: no direction yet
         return [float(command_v)] * len(cls.states)
 
 

@@ -259,16 +259,6 @@ def windowed_friction_torque(k: int, windows: int):
     return words
 
 
-def command_lag_flow(x: Context) -> str:
-    return (f'a flow {x.into} chamber {x.chamber} that follows the valve command through a '
-            'first-order lag: the flow reaches the chamber later than the model has it (a '
-            'long line between valve and chamber, or a slower spool)')
-
-
-def command_lag_valve(x: Context) -> str:
-    return ('the valve opens later than the command says: its spool follows the command '
-            'through a first-order lag the model does not have')
-
 
 # --- the valve command -------------------------------------------------------------------------
 def command_flow(x: Context) -> str:

@@ -14,22 +14,20 @@ declared twice. The blocks:
   shape** over it (piecewise linear, fitted together where no closed form fits);
 * **memory**: the direction in which the valve command last moved (a play
   operator of width :data:`COMMAND_PLAY_V`: magnetic hysteresis of a
-  proportional solenoid), the command through first-order lags
-  (:data:`COMMAND_LAGS_S`: what reaches a chamber late), and the direction in
-  which the shaft last moved (a play of :data:`MOTION_PLAY_RAD`: backlash
-  between shaft and encoder);
+  proportional solenoid), and the direction in which the shaft last moved (a
+  play of :data:`MOTION_PLAY_RAD`: backlash between shaft and encoder);
 * **products** of the above where a physical effect is one: friction that
   grows with chamber pressure, a leak across the vane over part of the stroke;
 * **dynamics of a sensor**: the rate of change of a chamber pressure (a transmitter that
   lags by tau reads, to first order, -tau times it).
 
-The command's memories are states of the correction (ODEs that follow the
-command: :attr:`Variable.memory`); the shaft's is evaluated over the record, so
+The command's memory is a state of the correction (an ODE that follows the
+command outside its play band, declared on its variable: :attr:`Variable.memory`); the
+shaft's is evaluated over the record, so
 it is offered to the sensor equations only.
 """
 from __future__ import annotations
 
-import math
 import re
 from dataclasses import dataclass, field
 from functools import cached_property
@@ -39,6 +37,7 @@ import numpy as np
 from .._jit import njit
 from . import term_words as w
 from .base import State
+from .operators import direction, lag, rate  # noqa: F401 - the expressions call them
 
 #: [rad/s] and [V]: widths over which the direction of motion and the side of the valve
 #: centre change sign (tanh), so that a correction never makes the equations discontinuous
@@ -56,9 +55,6 @@ N_WINDOWS = 4
 #: knots of a free shape over the stroke (the shape stage, :mod:`..analysis.diagnosis.shape`):
 #: piecewise linear between equally spaced knots from one end stop to the other
 N_KNOTS = 8
-#: [s] span of the derivative a sensor's rate is taken over (the prediction's own
-#: derivative window, ``analysis.equation_residual``, is 31 ms)
-RATE_WINDOW_S = 0.021
 #: [s] time constants of the first-order lags a reading is offered through: a pressure
 #: transmitter on a short line and on a long thin one. A coefficient c on a lag of tau is,
 #: to first order, a lag of c tau; a lag as fast as the record's steps is far from its
@@ -66,10 +62,6 @@ RATE_WINDOW_S = 0.021
 #: thermocouple's 60 ms lag on a blocked record fitted as 114 ms, each window starting
 #: from the lagged reading; their rate reads it right, if it explains less)
 LAGS_S = {'p_a': (0.005, 0.02), 'p_b': (0.005, 0.02)}
-#: [s] time constants of the first-order lags of the valve command offered to the flows and
-#: the valve input: what reaches a chamber late (a slow spool, a long line between valve and
-#: chamber), at the order of a small valve's spool and of a few metres of hose
-COMMAND_LAGS_S = (0.005, 0.02)
 #: the signal each lagged reading is of, a typical rate of change [unit/s] and the unit
 _READINGS = {'p_a': ('p_a_pa', 2e6, 'Pa'), 'p_b': ('p_b_pa', 2e6, 'Pa')}
 
@@ -96,69 +88,6 @@ def hat(angle, stroke, k):
     neighbours; beyond the end stops the end knots hold."""
     u = np.minimum(np.maximum(angle / stroke, 0.0), 1.0) * (N_KNOTS - 1)
     return np.maximum(1.0 - np.abs(u - k), 0.0)
-
-
-@njit(cache=True)
-def _play(v, half):
-    out = np.empty(len(v))
-    y = np.nan
-    for i in range(len(v)):
-        if np.isnan(v[i]):  # a missing sample: the play holds, and says nothing there
-            out[i] = v[i]
-            continue
-        y = v[i] if np.isnan(y) else min(max(y, v[i] - half), v[i] + half)
-        out[i] = y
-    return out
-
-
-@njit(cache=True)
-def _first_order(v, a):
-    out = np.empty(len(v))
-    y = np.nan
-    for i in range(len(v)):
-        if np.isnan(v[i]):  # a missing sample: the lag holds, and says nothing there
-            out[i] = v[i]
-            continue
-        y = v[i] if np.isnan(y) else a * y + (1.0 - a) * v[i]
-        out[i] = y
-    return out
-
-
-def lag(v: np.ndarray, t, tau: float) -> np.ndarray:
-    """``v`` read through a first-order lag of time constant ``tau`` [s], starting at rest
-    at its first sample (unchanged without sample times); exact for a reading held over
-    each sample interval."""
-    v = np.ascontiguousarray(v, dtype=float)
-    if t is None or len(v) < 2:
-        return v.copy()
-    return _first_order(v, math.exp(-_interval(t) / tau))
-
-
-def _interval(t) -> float:
-    """The sample interval of times ``t`` [s] (their median step)."""
-    return float(np.median(np.diff(np.asarray(t, dtype=float))))
-
-
-def rate(v: np.ndarray, t) -> np.ndarray:
-    """d``v``/dt over a record [unit/s]: a Savitzky-Golay derivative over
-    :data:`RATE_WINDOW_S`, so that a noisy reading's rate is not its noise (zero without
-    sample times or with too few samples). A sensor's lag is, to first order, minus its
-    time constant times this."""
-    from ..smoothing import savgol_filter
-    v = np.asarray(v, dtype=float)
-    if t is None or len(v) < 5:
-        return np.zeros(len(v))
-    dt = _interval(t)
-    window = min(max(5, int(round(RATE_WINDOW_S / dt)) | 1), len(v) - (1 - len(v) % 2))
-    return savgol_filter(v, window, 2, deriv=1, delta=dt)
-
-
-def direction(v: np.ndarray, width: float) -> np.ndarray:
-    """The direction ``v`` last moved in, from -1 to 1 [1]: its distance from the output of
-    a play (backlash) of ``width``, over half the width; 0 until it has moved, NaN where
-    ``v`` is (a missing sample does not reset the memory)."""
-    v = np.ascontiguousarray(v, dtype=float)
-    return (v - _play(v, 0.5 * width)) / (0.5 * width)
 
 
 @njit(cache=True)
@@ -217,13 +146,6 @@ VARIABLES = (
              memory=State('command_memory_v', 'V', 1e-3, 'the command as last left by its '
                           'play (the memory of the direction it moved in)'),
              follows='memory_rate(c[C_U] - {m}, COMMAND_PLAY_V)'),
-    *(Variable(f'command_lag_{1e3 * tau:.0f}ms', '({m} - P[K_NULL])',
-               f"lag(signals['command_v'], signals.get('t_s'), {tau}) "
-               "- core['valve_null_voltage_v']", 'command_v', lag_s=tau,
-               memory=State(f'command_lag_{1e3 * tau:.0f}ms_v', 'V', 1e-3,
-                            f'the command through a first-order lag of {1e3 * tau:.0f} ms'),
-               follows=f'(c[C_U] - {{m}}) / {tau}')
-      for tau in COMMAND_LAGS_S),
     Variable('motion_direction', None, "direction(signals['angle_rad'], MOTION_PLAY_RAD)",
              'angle_rad'),
     Variable('p_a_rate', None, "rate(signals['p_a_pa'], signals.get('t_s'))", 'p_a_pa'),
@@ -402,13 +324,6 @@ TERMS = (
     Term('command_direction', '1', 1.0, 'direction in which the command last moved '
          '(hysteresis)', 'command_direction', ('valve_input',) + _FLOWS, 2,
          says={'flow': w.hysteresis_flow, 'valve': w.hysteresis_valve}),
-    # what reaches a chamber late: the command through a lag, minus the command (a
-    # coefficient c on a lag of tau is, to first order, c tau times the command's rate)
-    *(Term(f'lag_{1e3 * tau:.0f}ms_command', 'V', 10.0 * tau, f'valve command through a '
-           f'first-order lag of {1e3 * tau:.0f} ms, minus the command (what arrives late)',
-           f'(command_lag_{1e3 * tau:.0f}ms - command)', ('valve_input',) + _FLOWS, 2,
-           says={'flow': w.command_lag_flow, 'valve': w.command_lag_valve})
-      for tau in COMMAND_LAGS_S),
     Term('motion_direction', '1', 1.0, 'direction in which the shaft last moved (play)',
          'motion_direction', ('measurement_angle',), 2, says={'reading': w.play_reading}),
     # a free shape over the stroke: where no closed form fits (the shape stage)
