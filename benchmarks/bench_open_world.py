@@ -5,7 +5,8 @@ real-time stepper's fixed-step RK4, not the predictor's integrator).
 
 For each record it prints the status, any named verdict, and the best generic correction:
 its equation, its leading term and whether that is the right equation, the right dependence
-(the variables the leading term is a function of) and the right closed form (see
+(``Discovered.depends_on``: the variables of the leading term and of the terms that make its
+size vary, its modulations) and the right closed form (see
 ``open_world_set``); and whether the right dependence is said at all: led, or among the
 readings said to fit as well (``fits_as_well``), which the records cannot tell apart.
 Then the hit rates beside the target (80 % for equation and dependence) and the count of
@@ -114,7 +115,7 @@ def judge(cls, result) -> dict:
                 'right_dependence_said': False}
     best = result.discovered[0]
     lead = best.leading
-    variables = set(BY_NAME[lead].depends_on)
+    variables = set(best.depends_on)
     right_eq = best.equation in cls.equations
     closed = _closed_form_right(cls, lead, result)
     said = [set(BY_NAME[t].depends_on) for t in (lead, *best.fits_as_well)]
@@ -166,8 +167,8 @@ def main(argv=None) -> int:
                     help='where discovery is wrong, whether the true effect would earn its place')
     ap.add_argument('--set', default='open_world_set',
                     help='the module of benchmarks/ whose SET to run: open_world_set (default), '
-                         'or held_out_set, held_out_set_2 (each written without the '
-                         'vocabulary, run once untuned)')
+                         'or held_out_set, held_out_set_2, held_out_set_3 (each written '
+                         'without the vocabulary, run once untuned)')
     args = ap.parse_args(argv)
     rows = []
     for index, cls in enumerate(import_module(args.set).SET):

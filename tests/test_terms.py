@@ -106,6 +106,29 @@ def test_a_correction_is_said_in_the_words_its_leading_term_carries():
     assert 'grows with the chambers\' pressure, 0.04 N.m per bar' in friction, friction
 
 
+def test_a_modulation_says_what_the_leading_terms_size_varies_with():
+    """A correction led by a term, with a modulation of it (the command's valve gain growing
+    with the pressure drop: a flow force on the spool), depends on the variables of both,
+    and its words say the size varies, by how much; a term added beside them (a constant
+    level, the angle) adds nothing to what the correction's main part depends on."""
+    from pneumatic_servo.analysis.diagnosis.interpret import depends_on, interpret
+    from pneumatic_servo.effects.terms import BY_NAME
+    product = BY_NAME['command_times_pressure_difference']
+    assert (product.modulates, product.modulator, product.cost) == (
+        'command', 'pressure_difference', 2)
+    terms = {'command': -0.1, 'command_times_pressure_difference': 2e-7, 'angle': 0.01}
+    assert depends_on(terms, 'command') == ['p_a', 'p_b', 'command']
+    assert depends_on({'command': -0.1, 'angle': 0.01}, 'command') == ['command']
+    # a friction over part of the stroke: a product declared with words of its own
+    assert depends_on({'sign_velocity': -0.04, 'sign_velocity_in_window_2': -0.01},
+                      'sign_velocity') == ['angle', 'velocity']
+    text = interpret('valve_input', terms, ModelConfig.paper())
+    assert 'its size varies with p_a - p_b [Pa] (-2e-06 of it per unit)' in text, text
+    # no term modulates itself or its own variable; windows only where none is declared
+    assert 'command_times_command' not in BY_NAME and 'angle_in_window_1' not in BY_NAME
+    assert BY_NAME['sign_velocity_in_window_1'].modulates == ''
+
+
 def test_direction_is_a_play_that_remembers_across_missing_samples():
     v = np.array([0.0, 0.3, 0.6, 0.5, np.nan, 0.4, 0.9])
     d = direction(v, 0.2)

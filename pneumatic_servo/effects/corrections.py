@@ -162,8 +162,10 @@ def hook_source(eq: Equation, used: list[Term], name: str = '_correction',
              *(f'    {v.name} = ' + (v.compiled_at(f'x[{index[v.name]}]') if v.name in index
                                       else v.compiled) for v in terms.variables_of(used))]
     if skip_zero:
+        plain = [(i, t) for i, t in enumerate(used) if not t.modulates]
         lines += ['    term = 0.0', *(f'    if p[{i}] != 0.0:\n        term += p[{i}] * '
-                                      f'{t.expression}' for i, t in enumerate(used))]
+                                      f'{t.expression}' for i, t in plain)]
+        lines += _modulations(used)
     else:
         lines.append('    term = ' + (' + '.join(f'p[{i}] * {t.expression}'
                                                 for i, t in enumerate(used)) or '0.0'))
@@ -171,6 +173,31 @@ def hook_source(eq: Equation, used: list[Term], name: str = '_correction',
               for v, i in index.items()]
     lines.append(f'    {eq.statement}')
     return '\n'.join(lines) + '\n'
+
+
+def _modulations(used: list[Term]) -> list[str]:
+    """Lines adding the modulations among ``used`` (they follow the plain terms): each
+    carrier and modulator is evaluated once, and only where a coefficient of theirs is not
+    zero, so that a hundred products compile as one loop, not as a hundred expressions."""
+    first = next((i for i, t in enumerate(used) if t.modulates), None)
+    if first is None:
+        return []
+    products = used[first:]
+    assert all(t.modulates for t in products), 'modulations follow the plain terms'
+    carriers = list(dict.fromkeys(t.modulates for t in products))
+    modulators = list(dict.fromkeys(t.modulator for t in products))
+    ci = tuple(carriers.index(t.modulates) for t in products)
+    mi = tuple(modulators.index(t.modulator) for t in products)
+    return [f'    on = False\n    for k in range({first}, {len(used)}):\n'
+            '        on = on or p[k] != 0.0',
+            '    if on:',
+            '        carriers = (' + ', '.join(f'{terms.BY_NAME[c].expression}'
+                                           for c in carriers) + ',)',
+            '        modulators = (' + ', '.join(terms.BY_MODULATOR[m][0] for m in modulators)
+            + ',)',
+            f'        for k in range({len(products)}):',
+            f'            if p[{first} + k] != 0.0:',
+            f'                term += p[{first} + k] * carriers[{ci}[k]] * modulators[{mi}[k]]']
 
 
 def sensor_source(eq: Equation, used: list[Term], name: str = '_sensor_error') -> str:

@@ -187,6 +187,11 @@ class Term:
     #: (:data:`.term_words.KINDS`): a function of a :class:`.term_words.Context` giving a
     #: sentence, or None where it says nothing particular (the equation's general words)
     says: dict = field(default_factory=dict, hash=False, compare=False)
+    #: for a modulation (:func:`modulations`), the term whose size it makes vary (it is
+    #: screened only where that term leads an equation's correction), and the name of the
+    #: modulator it is multiplied by (:data:`BY_MODULATOR`)
+    modulates: str = ''
+    modulator: str = ''
 
     @cached_property
     def variables(self) -> list[str]:
@@ -241,6 +246,44 @@ def windowed(base: str, unit: str, typical: float, expression: str, words: str,
                       says={kind: says(k, N_WINDOWS)}) for k in range(N_WINDOWS))
 
 
+def modulations(carriers, modulators, equations: tuple[str, ...],
+                exclude=frozenset()) -> tuple[Term, ...]:
+    """Each carrier (a plain term that carries an effect's mean: a valve gain's command, a
+    friction's direction of motion) times each modulator of other variables (the angle, a
+    pressure, a window over the stroke ...): the same effect, with a size that varies with
+    that variable (a flow force on the spool grows with the pressure drop; a bent shaft's
+    friction with the angle). Pairs in ``exclude`` are declared elsewhere, with their own
+    words. A pairing is a choice made on the data, so each costs two parameters."""
+    out = []
+    for c in carriers:
+        for name, expression, typical, words in modulators:
+            mod = Term(name, '1', typical, words, expression)
+            if (c.name, name) in exclude or set(mod.depends_on) & set(c.depends_on):
+                continue
+            joined = f'_in_{name}' if name.startswith('window_') else f'_times_{name}'
+            out.append(Term(f'{c.name}{joined}', c.unit if c.unit != '1' else '1',
+                            c.typical * typical, f'{c.words}, varying with {words}',
+                            f'{c.expression} * {expression}', equations, 2, modulates=c.name,
+                            modulator=name))
+    return tuple(out)
+
+
+#: what a carrier's size may vary with: each variable read from a signal, about a typical
+#: value (mid-stroke, atmosphere: so that the product is not the carrier itself again), and
+#: the windows over the stroke. (name, expression, typical size, words)
+MODULATORS = (
+    ('angle', '(angle - 0.5 * stroke)', 0.8, 'the angle from mid-stroke [rad]'),
+    ('velocity', 'velocity', 2.0, 'the shaft speed [rad/s]'),
+    ('gauge_p_a', '(p_a - p_atm)', 3e5, 'the chamber a pressure above atmosphere [Pa]'),
+    ('gauge_p_b', '(p_b - p_atm)', 3e5, 'the chamber b pressure above atmosphere [Pa]'),
+    ('pressure_difference', '(p_a - p_b)', 3e5, 'p_a - p_b [Pa]'),
+    ('command', 'command', 1.0, 'the valve command [V]'),
+    ('gauge_supply', '(supply - p_atm)', 6e5, 'the supply pressure above atmosphere [Pa]'),
+    *((f'window_{k}', f'window(angle, stroke, {k})', 1.0,
+       f'a window over part {k + 1} of {N_WINDOWS} of the stroke') for k in range(N_WINDOWS)),
+)
+#: modulator name -> (expression, typical size, words)
+BY_MODULATOR = {m[0]: m[1:] for m in MODULATORS}
 _FLOWS = ('mass_balance_a', 'mass_balance_b')
 TERMS = (
     Term('constant', '1', 1.0, 'one (a constant term)', '1.0',
@@ -351,6 +394,15 @@ TERMS = (
            says={'reading': w.lag_reading})
       for v, taus in LAGS_S.items() for tau in taus),
 )
+#: the equations a carrier is modulated in (not the energy balances or the temperatures)
+_MODULATED = ('moment_balance', *_FLOWS, 'valve_input', 'measurement_supply',
+              'measurement_angle', 'measurement_p_a', 'measurement_p_b')
+TERMS += modulations(
+    [t for t in TERMS if t.cost == 1 and t.equations is None and t.depends_on],
+    MODULATORS, _MODULATED, exclude={('sign_velocity', 'pressure_difference')} | {
+        (c, f'window_{k}') for k in range(N_WINDOWS) for c in (
+            'velocity', 'sign_velocity', 'sqrt_drop_a', 'sqrt_drop_b',
+            'sqrt_pressure_difference')})
 BY_NAME = {t.name: t for t in TERMS}
 
 

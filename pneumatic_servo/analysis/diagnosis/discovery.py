@@ -14,7 +14,11 @@ residuals and criteria as the named effects:
    least squares) and keeps the subset with the best held-out information
    criterion. This is output-error sparse regression: it needs no derivative
    of noisy, quantised signals and no unmeasured gas temperature, which an
-   equation-error regression would.
+   equation-error regression would. A second batch screens, in the equations
+   the first ranks best, the modulations of their leading term (that term
+   times the angle, a pressure, the command, a window over the stroke ...:
+   :func:`.terms.modulations`), so that what the correction depends on is
+   more than the plainest term that carries an effect's mean.
 2. **Confirm**: the best few equations are fitted in full (nonlinear, through
    the simulator, with the bases and effects that the named candidates refit)
    and scored on the held-out data; the result is a :class:`Discovered`
@@ -34,10 +38,11 @@ from ...fitting import residual_rows, stack
 from ...fitting.problem import with_values
 from ...model.assembly import Model
 from ...model.config import ModelConfig
-from .candidates import Baseline, Candidate, fit_parameters
+from .candidates import Baseline, fit_parameters
 from .data import Data
+from .discovered import Discovered, terms_of  # noqa: F401 - where callers import it
 from .hosts import shared_host
-from .interpret import interpret, leading
+from .interpret import interpret
 from .options import DiagnoseOptions
 from .readings import alike, equivalent_lag_ms, simplest_best, term_spread
 from .scoring import BIC_TIE, information_criteria, relative_fall, score_many
@@ -52,49 +57,6 @@ LEADING_PER_EQUATION = 4
 SECANT_STEPS = 2
 #: ... while a step moves it by more than this share
 SETTLED = 0.1
-
-
-def terms_of(params: dict[str, float]) -> dict[str, float]:
-    """Regressor -> value of correction parameters keyed ``'component.<regressor>_coefficient'``."""
-    return {k.partition('.')[2].removesuffix('_coefficient'): v for k, v in params.items()}
-
-
-@dataclass(frozen=True)
-class Discovered(Candidate):
-    """A generic correction fitted and scored like a named effect.
-
-    ``effect`` is the correction component's name; ``equation`` where it acts;
-    ``terms`` its regressors with their coefficients [SI].
-    """
-
-    equation: str = ''
-    interpretation: str = ''
-    #: held-out error reduction the linear screen predicted
-    screened_reduction: float = 0.0
-    #: regressor -> how much its term varies along the fitted records [SI], and the share
-    #: of the correction's variation it follows alone [0..1] (:func:`term_spread`)
-    sizes: dict = field(default_factory=dict)
-    shares: dict = field(default_factory=dict)
-    #: leading term -> interpretation of corrections of other variables that these records
-    #: fit as well (:func:`alike`)
-    fits_as_well: dict = field(default_factory=dict)
-
-    @property
-    def terms(self) -> dict[str, float]:
-        return terms_of(self.params)
-
-    @property
-    def leading(self) -> str:
-        """The term the correction mostly depends on (:func:`.interpret.leading`)."""
-        return leading(self.terms, self.shares)
-
-    def to_json(self) -> dict:
-        stderr = terms_of(self.stderr)
-        return {**super().to_json(), 'equation': self.equation, 'terms': self.terms,
-                'stderr': stderr, 'error_reduction': self.error_reduction,
-                'interpretation': self.interpretation,
-                'screened_reduction': self.screened_reduction, 'term_sizes': self.sizes,
-                'term_shares': self.shares, 'fits_as_well': dict(self.fits_as_well)}
 
 
 def correction_host(config: ModelConfig) -> ModelConfig:
@@ -150,8 +112,15 @@ def _residuals(model, host, keys, values, parts) -> list[np.ndarray]:
 def _sensitivities(model, host, keys, steps, parts) -> tuple[np.ndarray, np.ndarray]:
     """(residual at zero, sensitivity matrix) over ``parts``: one batch."""
     r0 = stack(residual_rows(model, parts, [host])[0])
+    return r0, _slopes(model, host, keys, steps, r0, parts)
+
+
+def _slopes(model, host, keys, steps, r0, parts) -> np.ndarray:
+    """(rows, len(keys)) sensitivities over ``parts`` of the residual ``r0`` at zero: one
+    batch."""
     rows = _residuals(model, host, keys, steps, parts)
-    return r0, np.column_stack([(r - r0) / h for r, h in zip(rows, steps)])
+    return np.column_stack([(r - r0) / h for r, h in zip(rows, steps)] or
+                           [np.zeros((len(r0), 0))])
 
 
 def _slope_fit(r: np.ndarray, s: np.ndarray) -> float:
@@ -250,13 +219,20 @@ def _forward_selection(lead, S_fit, S_val, block, costs, base_val: float, n_eff:
     window or a product leads only where it predicts clearly better than a plain term. The
     leading term is the simplest (first in the vocabulary) whose held-out BIC is within
     :data:`BIC_TIE` of the best: closer than that, the data do not tell them apart."""
+    first = _first(lead, block, costs, base_val, n_eff)
+    if first is None:
+        return [], np.zeros(0), base_val, 0.0
+    return _path(first, lead, S_fit, S_val, block, costs, base_val, n_eff, max_terms)
+
+
+def _first(lead, block, costs, base_val: float, n_eff: float) -> int | None:
+    """The leading refined term of ``block`` (see :func:`_forward_selection`), or None."""
     bic = {j: information_criteria(base_val, float(lead[j][2] @ lead[j][2]), costs[j],
                                    n_eff)[1] for j in lead if j in block}
     if not bic:
-        return [], np.zeros(0), base_val, 0.0
+        return None
     tie = min(bic.values()) + BIC_TIE
-    first = min(j for j, b in bic.items() if b <= tie)
-    return _path(first, lead, S_fit, S_val, block, costs, base_val, n_eff, max_terms)
+    return min(j for j, b in bic.items() if b <= tie)
 
 
 def _from_other_starts(lead, S_fit, S_val, block, costs, base_val: float, n_eff: float,
@@ -310,19 +286,35 @@ def screen_terms(base: Baseline, data: Data, n_eff: float, options: DiagnoseOpti
     model = Model(host)
     keys, terms, steps, costs, blocks = [], [], [], [], []
     equations = seen_equations(data)
-    for eq in equations:
-        screened = [t for t in eq.terms if t.screened]
-        blocks.append(list(range(len(keys), len(keys) + len(screened))))
-        for term in screened:
+    def add(eq, chosen, block):
+        block += range(len(keys), len(keys) + len(chosen))
+        for term in chosen:
             keys.append(_key(eq.name, term.name))
             terms.append(term)
             steps.append(SCREEN_STEP * eq.size / term.typical)
             costs.append(term.cost)
+    for eq in equations:
+        blocks.append([])
+        add(eq, [t for t in eq.terms if t.screened and not t.modulates], blocks[-1])
     r_fit, S_fit = _sensitivities(model, host, keys, steps, data.fit)
     r_val, S_val = _sensitivities(model, host, keys, steps, data.screen_val)
     lead = _leading_terms(model, host, keys, terms, r_fit, S_fit, data, blocks,
                           LEADING_PER_EQUATION)
     base_val = float(r_val @ r_val)
+    # the second batch: the modulations of the leading term of each of the equations the
+    # first ranks best (what its size varies with: a flow force on the spool is the
+    # command's, growing with the pressure drop), linear in their screening slopes
+    firsts = {i: _first(lead, block, costs, base_val, n_eff) for i, block in enumerate(blocks)}
+    ranked = sorted((i for i in firsts if firsts[i] is not None), key=lambda i: float(
+        lead[firsts[i]][2] @ lead[firsts[i]][2]))[:options.discovery_fits]
+    start = len(keys)
+    for i in ranked:
+        add(equations[i], [t for t in equations[i].terms
+                           if t.modulates == terms[firsts[i]].name], blocks[i])
+    S_fit = np.column_stack([S_fit, _slopes(model, host, keys[start:], steps[start:], r_fit,
+                                            data.fit)])
+    S_val = np.column_stack([S_val, _slopes(model, host, keys[start:], steps[start:], r_val,
+                                            data.screen_val)])
     out = []
     for eq, block in zip(equations, blocks):
         def screened(path):
@@ -344,7 +336,9 @@ def screen_terms(base: Baseline, data: Data, n_eff: float, options: DiagnoseOpti
             continue
         if any(TERMS[t].cost > 1 for t in terms_of(best.start)):
             best = replace(best, plain=select([j for j in block if costs[j] == 1]))
-        else:
+        # a plain first term's refined elaboration, whatever the path added to it (a
+        # modulation of it, linear in the screen, can stand where the refined product fits)
+        if costs[path[0][0]] == 1:
             best = replace(best, richer=screened(_richer(lead, path[0][0], block, terms,
                                                          costs, base_val, n_eff)))
         other = _from_other_starts(lead, S_fit, S_val, block, costs, base_val, n_eff,

@@ -6,7 +6,7 @@ import math
 
 from ...effects.corrections import BY_EQUATION
 from ...effects.term_words import Context
-from ...effects.terms import BY_NAME, N_KNOTS
+from ...effects.terms import BY_MODULATOR, BY_NAME, N_KNOTS, VARIABLES
 from ...model.config import ModelConfig
 
 #: the vocabulary's order: simplest first
@@ -31,6 +31,24 @@ def leading(terms: dict[str, float], shares: dict[str, float] | None = None) -> 
         top = max(shares[r] for r in varying)
         return min((r for r in varying if shares[r] > top - SAME_SHAPE), key=ORDER.get)
     return max(terms, key=lambda r: abs(terms[r]) * BY_NAME[r].typical)
+
+
+def varies_with(terms, lead: str) -> list[str]:
+    """The terms of a correction that make its leading term ``lead``'s size vary: its
+    modulations (:func:`.terms.modulations`), and other products of its variables with
+    others (a friction over part of the stroke)."""
+    seed = set(BY_NAME[lead].depends_on)
+    return [r for r in terms if r != lead and (BY_NAME[r].modulates == lead or seed and seed
+                                               < set(BY_NAME[r].depends_on))]
+
+
+def depends_on(terms, lead: str) -> list[str]:
+    """The variables a correction with ``terms`` led by ``lead`` depends on: those of its
+    leading term and of the terms that make that term's size vary (:func:`varies_with`);
+    another term beside them adds to the correction, and says nothing of what its main
+    part depends on."""
+    used = {v for r in (lead, *varies_with(terms, lead)) for v in BY_NAME[r].depends_on}
+    return [v.name for v in VARIABLES if v.name in used]
 
 
 def _general(equation: str, x: Context) -> str:
@@ -80,6 +98,12 @@ def interpret(equation: str, terms: dict[str, float], config: ModelConfig,
     text = BY_NAME[reg].explain(kind, x) or _general(equation, x)
     if kind == 'reading':
         text = 'a sensor error, not missing physics: ' + text
+    mods = [BY_NAME[r] for r in varies_with(terms, reg) if BY_NAME[r].modulates]
+    if mods:
+        # c (1 + (c_k / c) m_k): the share of its size each unit of a modulator adds
+        text += '; its size varies with ' + ' and '.join(
+            f'{BY_MODULATOR[t.modulator][2]} ({terms[t.name] / terms[reg]:+.3g} of it per '
+            'unit)' if terms[reg] else BY_MODULATOR[t.modulator][2] for t in mods)
     others = [r for r in terms if r != reg]
     if others:
         text += ' (with ' + ', '.join(f'{r} {terms[r]:+.3g}' for r in others) + ')'

@@ -1,0 +1,58 @@
+"""A generic correction fitted and scored like a named effect (what discovery returns), and
+how its parameters read as terms."""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from .candidates import Candidate
+from .interpret import depends_on, leading
+
+
+def terms_of(params: dict[str, float]) -> dict[str, float]:
+    """Regressor -> value of correction parameters keyed ``'component.<regressor>_coefficient'``."""
+    return {k.partition('.')[2].removesuffix('_coefficient'): v for k, v in params.items()}
+
+
+@dataclass(frozen=True)
+class Discovered(Candidate):
+    """A generic correction fitted and scored like a named effect.
+
+    ``effect`` is the correction component's name; ``equation`` where it acts;
+    ``terms`` its regressors with their coefficients [SI].
+    """
+
+    equation: str = ''
+    interpretation: str = ''
+    #: held-out error reduction the linear screen predicted
+    screened_reduction: float = 0.0
+    #: regressor -> how much its term varies along the fitted records [SI], and the share
+    #: of the correction's variation it follows alone [0..1] (:func:`term_spread`)
+    sizes: dict = field(default_factory=dict)
+    shares: dict = field(default_factory=dict)
+    #: leading term -> interpretation of corrections of other variables that these records
+    #: fit as well (:func:`alike`)
+    fits_as_well: dict = field(default_factory=dict)
+
+    @property
+    def terms(self) -> dict[str, float]:
+        return terms_of(self.params)
+
+    @property
+    def leading(self) -> str:
+        """The term the correction mostly depends on (:func:`.interpret.leading`)."""
+        return leading(self.terms, self.shares)
+
+    @property
+    def depends_on(self) -> list[str]:
+        """The variables the correction depends on: its leading term's, and those of the
+        terms that make the leading term's size vary (:func:`.interpret.varies_with`)."""
+        return depends_on(self.terms, self.leading)
+
+    def to_json(self) -> dict:
+        stderr = terms_of(self.stderr)
+        return {**super().to_json(), 'equation': self.equation, 'terms': self.terms,
+                'stderr': stderr, 'error_reduction': self.error_reduction,
+                'interpretation': self.interpretation,
+                'screened_reduction': self.screened_reduction, 'term_sizes': self.sizes,
+                'depends_on': self.depends_on,
+                'term_shares': self.shares, 'fits_as_well': dict(self.fits_as_well)}
