@@ -286,7 +286,9 @@ def screen_terms(base: Baseline, data: Data, n_eff: float, options: DiagnoseOpti
     model = Model(host)
     keys, terms, steps, costs, blocks = [], [], [], [], []
     equations = seen_equations(data)
+
     def add(eq, chosen, block):
+        """Append the columns of ``chosen`` terms of ``eq`` to ``block``."""
         block += range(len(keys), len(keys) + len(chosen))
         for term in chosen:
             keys.append(_key(eq.name, term.name))
