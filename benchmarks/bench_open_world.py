@@ -161,7 +161,7 @@ def main(argv=None) -> int:
 
     from pneumatic_servo.analysis.diagnosis import diagnose
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument('--only', help='one class of the set, by name')
+    ap.add_argument('--only', help='classes of the set, by name, comma-separated')
     ap.add_argument('--json', help='write every row as JSON')
     ap.add_argument('--oracle', action='store_true',
                     help='where discovery is wrong, whether the true effect would earn its place')
@@ -172,7 +172,7 @@ def main(argv=None) -> int:
     args = ap.parse_args(argv)
     rows = []
     for index, cls in enumerate(import_module(args.set).SET):
-        if args.only and args.only not in (cls.name, cls.__name__):
+        if args.only and not {cls.name, cls.__name__} & set(args.only.split(',')):
             continue
         for loop, rec in records(index):
             t0 = time.perf_counter()
@@ -184,6 +184,8 @@ def main(argv=None) -> int:
                 row['truth_earns_place'] = (row['right_equation'] and row['right_dependence']
                                             or truth_earns_place(cls, experiment))
             rows.append(row)
+            if args.json:  # every row as it comes: a long run that stops keeps what it did
+                Path(args.json).write_text(json.dumps({'rows': rows}, indent=1, default=str))
             marks = ''.join('-' if row[k] is None else 'x' if row[k] else '.' for k in
                             ('right_equation', 'right_dependence', 'right_closed_form',
                              'right_dependence_said'))

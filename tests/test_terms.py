@@ -122,6 +122,8 @@ def test_a_modulation_says_what_the_leading_terms_size_varies_with():
     # a friction over part of the stroke: a product declared with words of its own
     assert depends_on({'sign_velocity': -0.04, 'sign_velocity_in_window_2': -0.01},
                       'sign_velocity') == ['angle', 'velocity']
+    # damping over another part of the stroke is beside a window's torque, not its size
+    assert depends_on({'window_1': 0.05, 'velocity_in_window_2': 0.01}, 'window_1') == ['angle']
     text = interpret('valve_input', terms, ModelConfig.paper())
     assert 'its size varies with p_a - p_b [Pa] (-2e-06 of it per unit)' in text, text
     # no term modulates itself or its own variable; windows only where none is declared
@@ -190,10 +192,13 @@ def test_an_emitted_lagging_transmitter_reads_as_the_package_one(tmp_path):
 
 def test_an_emitted_memory_correction_simulates_as_the_package_one(tmp_path):
     """--emit-effect writes the hook from the same text: a valve hysteresis term (the
-    command's memory, a state of the effect) simulates identically to the correction."""
+    command's memory, a state of the effect) and a modulation (the package evaluates those in
+    one loop, the emitted file as their expression) simulate identically to the
+    correction."""
     name = BY_EQUATION['valve_input'].name
     coefficient = {f'{name}.command_direction_coefficient': -0.08,
-                   f'{name}.constant_coefficient': 0.01}
+                   f'{name}.constant_coefficient': 0.01,
+                   f'{name}.command_times_pressure_difference_coefficient': 3e-7}
     cls = _emitted(_discovered('valve_input', coefficient), tmp_path, 'hyst')
     assert [s.name for s in cls.states] == ['command_memory_v']
     registry.register(cls)

@@ -34,12 +34,12 @@ def leading(terms: dict[str, float], shares: dict[str, float] | None = None) -> 
 
 
 def varies_with(terms, lead: str) -> list[str]:
-    """The terms of a correction that make its leading term ``lead``'s size vary: its
-    modulations (:func:`.terms.modulations`), and other products of its variables with
-    others (a friction over part of the stroke)."""
-    seed = set(BY_NAME[lead].depends_on)
-    return [r for r in terms if r != lead and (BY_NAME[r].modulates == lead or seed and seed
-                                               < set(BY_NAME[r].depends_on))]
+    """The terms of a correction that make its leading term ``lead``'s size vary: those
+    that are ``lead`` times another factor (its modulations, :func:`.terms.modulations`, and
+    the products declared with words of their own: a friction over part of the stroke)."""
+    mine = BY_NAME[lead].expression
+    return [r for r in terms if r != lead and (BY_NAME[r].expression.startswith(f'{mine} * ')
+                                               or BY_NAME[r].expression.endswith(f' * {mine}'))]
 
 
 def depends_on(terms, lead: str) -> list[str]:
