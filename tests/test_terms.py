@@ -114,8 +114,11 @@ def test_a_modulation_says_what_the_leading_terms_size_varies_with():
     from pneumatic_servo.analysis.diagnosis.interpret import depends_on, interpret
     from pneumatic_servo.effects.terms import BY_NAME
     product = BY_NAME['command_times_pressure_difference']
-    assert (product.modulates, product.modulator, product.cost) == (
-        'command', 'pressure_difference', 2)
+    assert (product.modulates, product.modulator, product.cost, product.unit) == (
+        'command', 'pressure_difference', 2, 'V*Pa')
+    coefficient = next(p for p in BY_EQUATION['valve_input'].params
+                       if p.name == 'command_times_pressure_difference_coefficient')
+    assert coefficient.unit == 'V/(V*Pa)'  # SI per unit of the product
     terms = {'command': -0.1, 'command_times_pressure_difference': 2e-7, 'angle': 0.01}
     assert depends_on(terms, 'command') == ['p_a', 'p_b', 'command']
     assert depends_on({'command': -0.1, 'angle': 0.01}, 'command') == ['command']

@@ -128,7 +128,8 @@ def _params(eq: Equation) -> tuple[Param, ...]:
     for t in eq.terms:
         size = eq.size / t.typical
         unit = (eq.unit if t.unit == '1' else '1' if t.unit == eq.unit else
-                's' if t.unit == f'{eq.unit}/s' else f'{eq.unit}/{t.unit}')
+                's' if t.unit == f'{eq.unit}/s' else f'{eq.unit}/({t.unit})' if '*' in t.unit
+                else f'{eq.unit}/{t.unit}')
         out.append(Param(coefficient_name(t.name), unit, 0.0, -10.0 * size, 10.0 * size,
                          f'{eq.description} per unit of {t.words}', fit=False,
                          plausible=(-size, size)))

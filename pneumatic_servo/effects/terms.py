@@ -248,20 +248,20 @@ def windowed(base: str, unit: str, typical: float, expression: str, words: str,
 
 def modulations(carriers, modulators, equations: tuple[str, ...],
                 exclude=frozenset()) -> tuple[Term, ...]:
-    """Each carrier (a plain term that carries an effect's mean: a valve gain's command, a
+    """Each carrier (a plain term carrying an effect's mean: a valve gain's command, a
     friction's direction of motion) times each modulator of other variables (the angle, a
-    pressure, a window over the stroke ...): the same effect, with a size that varies with
-    that variable (a flow force on the spool grows with the pressure drop; a bent shaft's
-    friction with the angle). Pairs in ``exclude`` are declared elsewhere, with their own
-    words. A pairing is a choice made on the data, so each costs two parameters."""
+    pressure, a window over the stroke ...): the same effect, its size varying with that
+    variable (a flow force on the spool grows with the pressure drop). Pairs in ``exclude``
+    are declared elsewhere, with words. A pairing is chosen on the data: it costs two."""
     out = []
     for c in carriers:
-        for name, expression, typical, words in modulators:
-            mod = Term(name, '1', typical, words, expression)
+        for name, expression, unit, typical, words in modulators:
+            mod = Term(name, unit, typical, words, expression)
             if (c.name, name) in exclude or set(mod.depends_on) & set(c.depends_on):
                 continue
             joined = f'_in_{name}' if name.startswith('window_') else f'_times_{name}'
-            out.append(Term(f'{c.name}{joined}', c.unit if c.unit != '1' else '1',
+            both = unit if c.unit == '1' else c.unit if unit == '1' else f'{c.unit}*{unit}'
+            out.append(Term(f'{c.name}{joined}', both,
                             c.typical * typical, f'{c.words}, varying with {words}',
                             f'{c.expression} * {expression}', equations, 2, modulates=c.name,
                             modulator=name))
@@ -270,19 +270,19 @@ def modulations(carriers, modulators, equations: tuple[str, ...],
 
 #: what a carrier's size may vary with: each variable read from a signal, about a typical
 #: value (mid-stroke, atmosphere: so that the product is not the carrier itself again), and
-#: the windows over the stroke. (name, expression, typical size, words)
+#: the windows over the stroke. (name, expression, SI unit, typical size, words)
 MODULATORS = (
-    ('angle', '(angle - 0.5 * stroke)', 0.8, 'the angle from mid-stroke [rad]'),
-    ('velocity', 'velocity', 2.0, 'the shaft speed [rad/s]'),
-    ('gauge_p_a', '(p_a - p_atm)', 3e5, 'the chamber a pressure above atmosphere [Pa]'),
-    ('gauge_p_b', '(p_b - p_atm)', 3e5, 'the chamber b pressure above atmosphere [Pa]'),
-    ('pressure_difference', '(p_a - p_b)', 3e5, 'p_a - p_b [Pa]'),
-    ('command', 'command', 1.0, 'the valve command [V]'),
-    ('gauge_supply', '(supply - p_atm)', 6e5, 'the supply pressure above atmosphere [Pa]'),
-    *((f'window_{k}', f'window(angle, stroke, {k})', 1.0,
+    ('angle', '(angle - 0.5 * stroke)', 'rad', 0.8, 'the angle from mid-stroke [rad]'),
+    ('velocity', 'velocity', 'rad/s', 2.0, 'the shaft speed [rad/s]'),
+    ('gauge_p_a', '(p_a - p_atm)', 'Pa', 3e5, 'the chamber a pressure above atmosphere [Pa]'),
+    ('gauge_p_b', '(p_b - p_atm)', 'Pa', 3e5, 'the chamber b pressure above atmosphere [Pa]'),
+    ('pressure_difference', '(p_a - p_b)', 'Pa', 3e5, 'p_a - p_b [Pa]'),
+    ('command', 'command', 'V', 1.0, 'the valve command [V]'),
+    ('gauge_supply', '(supply - p_atm)', 'Pa', 6e5, 'the supply above atmosphere [Pa]'),
+    *((f'window_{k}', f'window(angle, stroke, {k})', '1', 1.0,
        f'a window over part {k + 1} of {N_WINDOWS} of the stroke') for k in range(N_WINDOWS)),
 )
-#: modulator name -> (expression, typical size, words)
+#: modulator name -> (expression, SI unit, typical size, words)
 BY_MODULATOR = {m[0]: m[1:] for m in MODULATORS}
 _FLOWS = ('mass_balance_a', 'mass_balance_b')
 TERMS = (

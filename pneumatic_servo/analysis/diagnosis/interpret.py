@@ -102,8 +102,8 @@ def interpret(equation: str, terms: dict[str, float], config: ModelConfig,
     if mods:
         # c (1 + (c_k / c) m_k): the share of its size each unit of a modulator adds
         text += '; its size varies with ' + ' and '.join(
-            f'{BY_MODULATOR[t.modulator][2]} ({terms[t.name] / terms[reg]:+.3g} of it per '
-            'unit)' if terms[reg] else BY_MODULATOR[t.modulator][2] for t in mods)
+            f'{BY_MODULATOR[t.modulator][3]} ({terms[t.name] / terms[reg]:+.3g} of it per '
+            'unit)' if terms[reg] else BY_MODULATOR[t.modulator][3] for t in mods)
     others = [r for r in terms if r != reg]
     if others:
         text += ' (with ' + ', '.join(f'{r} {terms[r]:+.3g}' for r in others) + ')'
