@@ -192,8 +192,8 @@ def _modulations(used: list[Term]) -> list[str]:
     return [f'    on = False\n    for k in range({first}, {len(used)}):\n'
             '        on = on or p[k] != 0.0',
             '    if on:',
-            '        carriers = (' + ', '.join(f'{terms.BY_NAME[c].expression}'
-                                           for c in carriers) + ',)',
+            '        carriers = (' + ', '.join(terms.BY_NAME[c].expression for c in carriers)
+            + ',)',
             '        modulators = (' + ', '.join(terms.BY_MODULATOR[m][0] for m in modulators)
             + ',)',
             f'        for k in range({len(products)}):',

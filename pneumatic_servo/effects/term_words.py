@@ -259,7 +259,6 @@ def windowed_friction_torque(k: int, windows: int):
     return words
 
 
-
 # --- the valve command -------------------------------------------------------------------------
 def command_flow(x: Context) -> str:
     return (f'a flow {x.into} chamber {x.chamber} that follows the valve command: the '
