@@ -10,6 +10,7 @@ of each.
 """
 from __future__ import annotations
 
+import contextlib
 import json
 import os
 import select
@@ -17,10 +18,11 @@ import signal
 import subprocess
 import sys
 import tempfile
+import time
 from pathlib import Path
 
 SERVER = r'''
-import atexit, json, os, sys, traceback
+import atexit, faulthandler, json, os, signal, sys, traceback
 from pneumatic_servo.cli import main
 # what the verbs import, imported once here (not the ROS verbs, nor fleet's Dask, whose
 # threads a fork would not carry over)
@@ -31,6 +33,8 @@ def child(req):
     for fd, path in ((1, req['out']), (2, req['err'])):
         os.dup2(os.open(path, os.O_WRONLY | os.O_CREAT | os.O_TRUNC), fd)
     os.dup2(os.open(os.devnull, os.O_RDONLY), 0)
+    # a call that overruns its time is asked for its stacks before it is killed
+    faulthandler.register(signal.SIGUSR1, all_threads=True)
     sys.argv = ['-c', *req['argv']]
     try:
         code = main(req['argv'])
@@ -52,7 +56,10 @@ for line in sys.stdin:
     sys.stdout.flush()
     pid = os.fork()
     if pid == 0:
-        child(req)
+        try:
+            child(req)
+        finally:  # never back into this loop, whatever went wrong before main
+            os._exit(70)
     print(json.dumps({'pid': pid}), flush=True)
     _, status = os.waitpid(pid, 0)
     print(json.dumps({'rc': os.waitstatus_to_exitcode(status)}), flush=True)
@@ -64,10 +71,14 @@ class ForkedCli:
     result as ``subprocess.run(..., capture_output=True, text=True)`` gives it."""
 
     def __init__(self, env: dict):
-        self.server = subprocess.Popen([sys.executable, '-c', SERVER], env=env, text=True,
-                                       stdin=subprocess.PIPE, stdout=subprocess.PIPE)
+        self.env = env
+        self.server = self._start()
         # the outputs apart from the call's directory, which a case may make unwritable
         self.outputs = Path(tempfile.mkdtemp(prefix='forked_cli_'))
+
+    def _start(self) -> subprocess.Popen:
+        return subprocess.Popen([sys.executable, '-c', SERVER], env=self.env, text=True,
+                                stdin=subprocess.PIPE, stdout=subprocess.PIPE)
 
     def _reply(self, timeout: float) -> dict:
         if not select.select([self.server.stdout], [], [], timeout)[0]:
@@ -86,12 +97,25 @@ class ForkedCli:
         try:
             rc = self._reply(timeout)['rc']
         except TimeoutError:
-            os.kill(pid, signal.SIGKILL)
-            raise
+            raise TimeoutError(f'{argv} gave no answer in {timeout:g} s; its stacks:\n'
+                               f'{self._stop(pid, err)}') from None
         result = subprocess.CompletedProcess(argv, rc, out.read_text(), err.read_text())
         out.unlink()
         err.unlink()
         return result
+
+    def _stop(self, pid: int, err: Path) -> str:
+        """Stop an overrunning call, and a server whose replies would now be out of step
+        with the next call's (a new one is started): what the call wrote to stderr, with
+        its stacks."""
+        with contextlib.suppress(ProcessLookupError):
+            os.kill(pid, signal.SIGUSR1)
+            time.sleep(2.0)
+            os.kill(pid, signal.SIGKILL)
+        self.server.kill()
+        self.server.wait()
+        self.server = self._start()
+        return err.read_text()[-6000:] if err.exists() else '(none)'
 
     def close(self) -> None:
         self.server.stdin.close()

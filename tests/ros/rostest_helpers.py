@@ -223,10 +223,25 @@ class Probe:
         self.spin_until(lambda: cli.service_is_ready(), 10.0, f'{node_name} parameters')
         req = SetParameters.Request()
         req.parameters = [Parameter(k, value=v).to_parameter_msg() for k, v in values.items()]
-        fut = cli.call_async(req)
-        self.spin_until(lambda: fut.done(), 10.0, 'set_parameters reply')
+        results = self.call_idempotent(cli, req, 'set_parameters reply').results
         self.node.destroy_client(cli)
-        return fut.result().results
+        return results
+
+    def call_idempotent(self, cli, req, what: str, timeout: float = 30.0):
+        """The reply to a request that may be sent again, sent again every 5 s until one
+        comes. Why: a service reports ready once its request reader has matched ours; the
+        reply writer may match our reader later, and a reply sent before is lost (seen on
+        a loaded machine)."""
+        end = time.monotonic() + timeout
+        while True:
+            fut = cli.call_async(req)
+            try:
+                self.spin_until(lambda: fut.done(), min(5.0, end - time.monotonic()), what)
+                return fut.result()
+            except AssertionError:
+                cli.remove_pending_request(fut)
+                if time.monotonic() >= end:
+                    raise AssertionError(f'timed out after {timeout:g} s waiting for {what}')
 
     def change_state(self, node_name: str, transition_id: int) -> bool:
         from lifecycle_msgs.msg import Transition

@@ -20,10 +20,10 @@ def get_parameter(probe, node: str, name: str):
     from rcl_interfaces.srv import GetParameters
     cli = probe.node.create_client(GetParameters, f'{node}/get_parameters')
     probe.spin_until(lambda: cli.service_is_ready(), 30.0, f'{node} parameters')
-    fut = cli.call_async(GetParameters.Request(names=[name]))
-    probe.spin_until(lambda: fut.done(), 10.0, 'get_parameters reply')
+    reply = probe.call_idempotent(cli, GetParameters.Request(names=[name]),
+                                  'get_parameters reply')
     probe.node.destroy_client(cli)
-    return fut.result().values[0].double_value
+    return reply.values[0].double_value
 
 
 def test_a_node_under_a_namespace_takes_the_file(procs, probe, tmp_path):
