@@ -198,7 +198,7 @@ def _residual_plot(out_dir: Path, result: Diagnosis, term) -> str | None:
         return None
     shown = eq.shown_as or term.equation
     return plot_equation_residual(out_dir, points, shown, reg, BY_EQUATION[shown].equation.unit,
-                                  TERMS[reg].unit, eq.unit)
+                                  TERMS[reg].unit, eq.unit, reg_words=TERMS[reg].words)
 
 
 def _ranking_table(ranking: list[dict]) -> str:

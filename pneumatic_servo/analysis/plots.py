@@ -196,7 +196,7 @@ def plot_ladder(out_dir: Path, ladder: list[dict], name: str = 'ladder.png') -> 
 
 def plot_equation_residual(out_dir: Path, points: list[tuple], equation: str, regressor: str,
                            unit: str, reg_unit: str, term_unit: str | None = None,
-                           name: str = 'equation_residual.png') -> str:
+                           name: str = 'equation_residual.png', reg_words: str = '') -> str:
     """The residual of ``equation`` [``unit``] against the leading term of a discovered
     correction (or the variable it is a function of), with binned medians: the shape the
     data show, and the learned correction at the same samples with its 95 % band (from the
@@ -205,6 +205,8 @@ def plot_equation_residual(out_dir: Path, points: list[tuple], equation: str, re
     ``points`` holds (regressor values, residual, correction, its standard deviation) arrays
     per experiment. A correction in another unit than the residual (``term_unit``: the valve
     input's volts, seen through a chamber's mass balance) is drawn against its own axis.
+    ``reg_words``: what the regressor is, on its axis (the command term is the command less
+    the valve's centre, so it runs from -5 to 5 V).
     """
     plt = _plt()
     x, y, term, sd = (np.concatenate([p[i] for p in points]) for i in range(4))
@@ -237,7 +239,8 @@ def plot_equation_residual(out_dir: Path, points: list[tuple], equation: str, re
     pad = 0.2 * (hi - lo) or 1.0
     ax.set_ylim(lo - pad, hi + pad)
     ax.axhline(0.0, color='k', lw=0.5)
-    ax.set_xlabel(f'{regressor} [{reg_unit}]', fontsize=9)
+    words = f': {reg_words}' if reg_words and reg_words != regressor else ''
+    ax.set_xlabel(f'{regressor}{words} [{reg_unit}]', fontsize=9)
     ax.set_ylabel(f'{equation} residual [{unit}]', fontsize=9)
     if own:
         tx.set_ylabel(f'correction [{term_unit}]', fontsize=9, color='tab:blue')
