@@ -134,6 +134,20 @@ def test_a_modulation_says_what_the_leading_terms_size_varies_with():
     assert BY_NAME['sign_velocity_in_window_1'].modulates == ''
 
 
+def test_a_window_the_record_never_enters_is_not_said_to_confine_the_correction():
+    """Damping over the second quarter of the stroke (48-95 deg) fitted to a record that
+    stays within 100-124 deg (an open-loop chirp of held-out set 4) meets only the window's
+    tail there: the words say so, and do not say it acts only in that part; a record that
+    enters the window keeps the plain words."""
+    from pneumatic_servo.analysis.diagnosis.interpret import interpret
+    terms = {'velocity_in_window_1': -0.03}
+    cfg = ModelConfig.paper()
+    outside = interpret('moment_balance', terms, cfg, angles_deg=(100.0, 124.0))
+    assert 'the record stays within 100-124 deg and meets only its tail' in outside, outside
+    inside = interpret('moment_balance', terms, cfg, angles_deg=(40.0, 124.0))
+    assert 'between about 48 and 95 deg: a damper' in inside and 'tail' not in inside, inside
+
+
 def test_direction_is_a_play_that_remembers_across_missing_samples():
     v = np.array([0.0, 0.3, 0.6, 0.5, np.nan, 0.4, 0.9])
     d = direction(v, 0.2)

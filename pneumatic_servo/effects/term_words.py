@@ -23,8 +23,9 @@ class Context:
     (name -> coefficient), the rig's ``core`` parameters, the ``chamber`` of a mass or
     energy balance or a chamber's reading ('a', 'b'; '' elsewhere), the ``signal`` a
     reading is of ('angle', 'supply', 'p_a', 't_b', ...; '' in a balance), a reading's
-    ``lag_ms``, the one first-order lag closest to its lag terms over the record, and the
-    term's own ``words`` (what it is a function of)."""
+    ``lag_ms``, the one first-order lag closest to its lag terms over the record, the
+    term's own ``words`` (what it is a function of) and ``angles_deg``, the angles the
+    record visits [deg]."""
 
     c: float
     terms: dict
@@ -33,6 +34,7 @@ class Context:
     chamber: str = ''
     signal: str = ''
     lag_ms: float | None = None
+    angles_deg: tuple[float, float] | None = None
 
     @property
     def into(self) -> str:
@@ -44,10 +46,19 @@ class Context:
         return self.signal in ('p_a', 'p_b')
 
 
-def part(k: int, windows: int, core: dict) -> str:
-    """Where along the stroke window ``k`` of ``windows`` acts, in degrees."""
-    stroke = math.degrees(core['stroke_rad'])
-    return f'between about {k * stroke / windows:.0f} and {(k + 1) * stroke / windows:.0f} deg'
+def part(k: int, windows: int, x: Context) -> str:
+    """Where along the stroke window ``k`` of ``windows`` acts, in degrees; where the
+    record never enters it (``x.angles_deg``), that it meets only the window's tail, so
+    that being confined to it is the fit's form, not something the record shows."""
+    stroke = math.degrees(x.core['stroke_rad'])
+    lo, hi = k * stroke / windows, (k + 1) * stroke / windows
+    where = f'between about {lo:.0f} and {hi:.0f} deg'
+    if x.angles_deg is None or (x.angles_deg[1] >= lo and x.angles_deg[0] <= hi):
+        return where
+    a, b = x.angles_deg
+    return (f'{where} by the form fitted, though the record stays within {a:.0f}-{b:.0f} deg '
+            'and meets only its tail (there it grows towards that part; whether it ends '
+            'there the record cannot say)')
 
 
 # --- the constant ---------------------------------------------------------------------------
@@ -112,14 +123,14 @@ def trig_torque(trig: str):
 def window_torque(k: int, windows: int):
     def words(x: Context) -> str:
         return (f'a torque of {x.c:+.3g} N.m only over part of the stroke, '
-                f'{part(k, windows, x.core)}: a local load, a rough or worn stretch of the '
+                f'{part(k, windows, x)}: a local load, a rough or worn stretch of the '
                 'track, or a soft stop')
     return words
 
 
 def window_reading(k: int, windows: int):
     def words(x: Context) -> str | None:
-        return (f'the angle reads {math.degrees(x.c):+.2g} deg off {part(k, windows, x.core)} '
+        return (f'the angle reads {math.degrees(x.c):+.2g} deg off {part(k, windows, x)} '
                 'only: a nonlinearity of the angle sensor') if x.signal == 'angle' else None
     return words
 
@@ -224,7 +235,7 @@ def supply_reading(x: Context) -> str | None:
 
 def windowed_orifice_flow(k: int, windows: int):
     def words(x: Context) -> str:
-        return ('a leak between the chambers that exists only ' + part(k, windows, x.core)
+        return ('a leak between the chambers that exists only ' + part(k, windows, x)
                 + ': wear of the housing or vane seal over part of the stroke')
     return words
 
@@ -235,7 +246,7 @@ def windowed_vent_flow(chamber: str):
         def words(x: Context) -> str:
             return (f'a leak {"into" if x.c > 0 else "out of"} chamber {chamber} '
                     f'{"from" if x.c > 0 else "to"} atmosphere that exists only '
-                    + part(k, windows, x.core) + ': a scored bore or end cover, or a port '
+                    + part(k, windows, x) + ': a scored bore or end cover, or a port '
                     'the vane uncovers there')
         return words
     return by_window
@@ -244,7 +255,7 @@ def windowed_vent_flow(chamber: str):
 def windowed_damping_torque(k: int, windows: int):
     def words(x: Context) -> str:
         return (f'a torque proportional to speed, {x.c:+.3g} N.m.s/rad, only '
-                + part(k, windows, x.core) + ': '
+                + part(k, windows, x) + ': '
                 + ('a damper, drag or linkage that acts there' if x.c < 0 else
                    'less damping there than the model has'))
     return words
@@ -253,7 +264,7 @@ def windowed_damping_torque(k: int, windows: int):
 def windowed_friction_torque(k: int, windows: int):
     def words(x: Context) -> str:
         return (f'a torque of {abs(x.c):.3g} N.m that {"opposes" if x.c < 0 else "aids"} '
-                'the motion only ' + part(k, windows, x.core) + ': '
+                'the motion only ' + part(k, windows, x) + ': '
                 + ('a rough, dented or tight stretch of the bore or track' if x.c < 0 else
                    'less friction there than the model has'))
     return words

@@ -44,7 +44,7 @@ from .discovered import Discovered, terms_of  # noqa: F401 - where callers impor
 from .hosts import shared_host
 from .interpret import interpret
 from .options import DiagnoseOptions
-from .readings import alike, equivalent_lag_ms, simplest_best, term_spread
+from .readings import alike, angle_span_deg, equivalent_lag_ms, simplest_best, term_spread
 from .scoring import BIC_TIE, information_criteria, relative_fall, score_many
 
 #: sensitivity step of a coefficient, as a share of its plausible size: large enough to step
@@ -386,7 +386,7 @@ def confirm(screened: ScreenedEquation, host: ModelConfig, model: Model, base: B
         shares=shares,
         interpretation=interpret(screened.equation, terms_of(values), base.config, shares,
                                  equivalent_lag_ms(screened.equation, terms_of(values), data,
-                                                   base.config.core)))
+                                                   base.config.core), angle_span_deg(data)))
     return found
 
 

@@ -82,19 +82,22 @@ def _kind(equation: str) -> str:
 
 
 def interpret(equation: str, terms: dict[str, float], config: ModelConfig,
-              shares: dict[str, float] | None = None, lag_ms: float | None = None) -> str:
+              shares: dict[str, float] | None = None, lag_ms: float | None = None,
+              angles_deg: tuple[float, float] | None = None) -> str:
     """One sentence on a correction of ``equation`` with ``terms`` (regressor -> coefficient,
     SI): what it is, after its leading term (:func:`leading`, with the terms' ``shares`` of
     its variation along the record where known), and the physics that usually causes it;
     a sensor error is called one, never a change of the physics. ``lag_ms``: the time
-    constant of a reading's lag terms over the record (``readings.equivalent_lag_ms``)."""
+    constant of a reading's lag terms over the record (``readings.equivalent_lag_ms``);
+    ``angles_deg``: the angles the record visits (``readings.angle_span_deg``)."""
     if not terms:
         return 'no term'
     reg = leading(terms, shares)
     kind = _kind(equation)
     signal = equation.removeprefix('measurement_') if kind == 'reading' else ''
     chamber = equation[-1] if kind in ('flow', 'heat') or signal[:2] in ('p_', 't_') else ''
-    x = Context(terms[reg], terms, config.core, BY_NAME[reg].words, chamber, signal, lag_ms)
+    x = Context(terms[reg], terms, config.core, BY_NAME[reg].words, chamber, signal, lag_ms,
+                angles_deg)
     text = BY_NAME[reg].explain(kind, x) or _general(equation, x)
     if kind == 'reading':
         text = 'a sensor error, not missing physics: ' + text

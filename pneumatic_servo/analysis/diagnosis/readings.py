@@ -42,6 +42,17 @@ def term_spread(terms: dict[str, float], data: Data, core: dict
     return dict(zip(names, map(float, sizes))), dict(zip(names, shares))
 
 
+def angle_span_deg(data: Data) -> tuple[float, float] | None:
+    """The angles [deg] the time series visit (1st to 99th percentile of the measured
+    angle), for words that place a correction along the stroke; None without a series."""
+    angles = [e.signals['angle_rad'] for e in data.experiments
+              if not e.static and 'angle_rad' in e.signals]
+    if not angles:
+        return None
+    lo, hi = np.nanpercentile(np.degrees(np.concatenate(angles)), [1.0, 99.0])
+    return float(lo), float(hi)
+
+
 def equivalent_lag_ms(equation: str, terms: dict[str, float], data: Data, core: dict
                       ) -> float | None:
     """The time constant [ms] of the one first-order lag of a pressure reading whose error
