@@ -31,6 +31,7 @@ import json
 import os
 import sys
 import time
+from contextlib import contextmanager
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
@@ -48,17 +49,30 @@ def records(index: int):
             ('open loop', Record('chirp', 500.0, 10.0, integrator=second, seed=8))]
 
 
+@contextmanager
+def registered(cls):
+    """``cls`` registered for the block, unregistered after (the set is on no list)."""
+    from pneumatic_servo import effects as registry
+    registry.register(cls)
+    try:
+        yield
+    finally:
+        registry._REGISTRY.pop(cls.name, None)
+
+
+def named_only(cls, experiment, others=()):
+    """The diagnosis of ``experiment`` with ``cls`` registered and tried with the named
+    effects ``others`` alone (no discovery)."""
+    from pneumatic_servo.analysis.diagnosis import DiagnoseOptions, diagnose
+    with registered(cls):
+        return diagnose([experiment], effects=[cls.name, *others],
+                        options=DiagnoseOptions(discover=False))
+
+
 def truth_earns_place(cls, experiment) -> bool:
     """Whether ``cls``, registered and diagnosed alone (no discovery), earns its place on
     ``experiment``: is named as the answer, explained or with a second effect to come."""
-    from pneumatic_servo import effects as registry
-    from pneumatic_servo.analysis.diagnosis import DiagnoseOptions, diagnose
-    registry.register(cls)
-    try:
-        result = diagnose([experiment], effects=[cls.name],
-                          options=DiagnoseOptions(discover=False))
-    finally:
-        registry._REGISTRY.pop(cls.name, None)
+    result = named_only(cls, experiment)
     return result.verdict == cls.name and result.status in ('explained', 'partly_explained')
 
 
@@ -66,16 +80,12 @@ def make(cls, rec):
     """The record, generated with ``cls`` registered (unregistered again after)."""
     from dataclasses import replace
 
-    from pneumatic_servo import effects as registry
     from pneumatic_servo.synth.varied import make_record
     values = cls.defaults()
     if 'sample_interval_s' in values:
         values['sample_interval_s'] = 1.0 / rec.rate_hz
-    registry.register(cls)
-    try:
+    with registered(cls):
         return make_record(replace(rec, effects={cls.name: values}))
-    finally:
-        registry._REGISTRY.pop(cls.name, None)
 
 
 def _overlaps(term: str, where, result) -> bool:
@@ -168,15 +178,8 @@ def truth_beats_name(cls, experiment, name: str) -> bool:
     Where it does not, the record cannot tell the truth from the name at the stated error
     rate: naming the nearest effect on the list is then a limit of the record, not of the
     search."""
-    from pneumatic_servo import effects as registry
-    from pneumatic_servo.analysis.diagnosis import DiagnoseOptions, diagnose
     from pneumatic_servo.analysis.diagnosis.status import clearly_better
-    registry.register(cls)
-    try:
-        result = diagnose([experiment], effects=[cls.name, name],
-                          options=DiagnoseOptions(discover=False))
-    finally:
-        registry._REGISTRY.pop(cls.name, None)
+    result = named_only(cls, experiment, [name])
     by = {c.effect: c for c in result.ranking}
     return clearly_better(result.trial, by[cls.name], by[name])
 
