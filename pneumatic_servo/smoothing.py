@@ -9,14 +9,17 @@ against scipy's.
 """
 from __future__ import annotations
 
+from functools import lru_cache
 from math import factorial
 
 import numpy as np
 
 
+@lru_cache(maxsize=64)
 def _fit_matrix(window: int, order: int, deriv: int, delta: float) -> np.ndarray:
     """Rows: the ``deriv``-th derivative at each position of the window, as weights on the
-    window's samples, of the least-squares polynomial of degree ``order``."""
+    window's samples, of the least-squares polynomial of degree ``order`` (read-only: it is
+    cached, as every prediction smooths its record with the same few windows)."""
     pos = np.arange(window) - window // 2
     vander = np.vander(pos, order + 1, increasing=True)          # sample i, power k
     coef_of_samples = np.linalg.pinv(vander)                      # power k, sample i
@@ -25,7 +28,9 @@ def _fit_matrix(window: int, order: int, deriv: int, delta: float) -> np.ndarray
                       for k in powers])
     eval_at = np.array([[scale[k] * float(p) ** (k - deriv) if k >= deriv else 0.0
                          for k in powers] for p in pos])          # position, power k
-    return eval_at @ coef_of_samples / delta ** deriv
+    out = eval_at @ coef_of_samples / delta ** deriv
+    out.flags.writeable = False
+    return out
 
 
 def savgol_filter(x, window: int, order: int, deriv: int = 0, delta: float = 1.0

@@ -169,3 +169,11 @@ class Component:
     @classmethod
     def hook(cls, stage: str) -> Optional[Callable]:
         return getattr(cls, stage)
+
+
+def switched(comp: type[Component]) -> bool:
+    """Whether ``comp``'s slice of the parameter vector ends with its switch: 1.0 while one of
+    its parameters differs from ``neutral``, else 0.0. The compiled model then tests one
+    number at each evaluation, not every parameter (a generic correction has a hundred: the
+    test cost five times the core model's evaluation, measured)."""
+    return bool(comp.skipped_at_neutral and comp.neutral)

@@ -154,8 +154,9 @@ def hook_source(eq: Equation, used: list[Term], name: str = '_correction',
     """Source of the compiled hook adding ``sum_i p[i] * used[i]`` to ``eq``.
 
     ``skip_zero``: evaluate a term only where its coefficient is not zero (the sum is the
-    same). The package's hooks carry every term of the vocabulary, and a screening
-    simulation sets one of them; emitted files carry only the terms in use.
+    same), and none while the switch after the coefficients is off. The package's hooks
+    carry every term of the vocabulary, and a screening simulation sets one of them;
+    emitted files carry only the terms in use.
     """
     index = {v.name: f's + {i}' for i, v in enumerate(memories(used))}  # of the states
     lines = [f'def {name}(t, x, s, p, P, c, dx):',
@@ -163,10 +164,13 @@ def hook_source(eq: Equation, used: list[Term], name: str = '_correction',
              *(f'    {v.name} = ' + (v.compiled_at(f'x[{index[v.name]}]') if v.name in index
                                       else v.compiled) for v in terms.variables_of(used))]
     if skip_zero:
+        # p[len(used)] is the hook's switch (1.0 while a coefficient is not zero:
+        # ``model.assembly.switched``); a hook with a memory runs always, to move it
         plain = [(i, t) for i, t in enumerate(used) if not t.modulates]
-        lines += ['    term = 0.0', *(f'    if p[{i}] != 0.0:\n        term += p[{i}] * '
-                                      f'{t.expression}' for i, t in plain)]
-        lines += _modulations(used)
+        lines += ['    term = 0.0', f'    if p[{len(used)}] != 0.0:',
+                  *(f'        if p[{i}] != 0.0:\n            term += p[{i}] * '
+                    f'{t.expression}' for i, t in plain),
+                  *('    ' + line.replace('\n', '\n    ') for line in _modulations(used))]
     else:
         lines.append('    term = ' + (' + '.join(f'p[{i}] * {t.expression}'
                                                 for i, t in enumerate(used)) or '0.0'))
@@ -243,12 +247,14 @@ def _compiled_hooks() -> dict:
 
 def _sensor(eq: Equation):
     used = [(t, coefficient_name(t.name)) for t in eq.terms]
+    keys = [k for _, k in used]
 
     def sensor_error(values: dict, signals: dict, core: dict) -> dict:
         # the terms in use only: a zero coefficient adds nothing, not even a missing sample
-        on = [(t, values[k]) for t, k in used if values[k] != 0.0]
-        if not on:
+        # (checked first without building anything: this runs for every predicted segment)
+        if not any(map(values.__getitem__, keys)):
             return {}
+        on = [(t, values[k]) for t, k in used if values[k] != 0.0]
         return {eq.signal: term_values([t for t, _ in on], signals, core)
                 @ np.array([c for _, c in on])}
     return sensor_error

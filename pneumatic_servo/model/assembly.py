@@ -11,7 +11,7 @@ from functools import cached_property
 
 import numpy as np
 
-from ..effects.base import Component
+from ..effects.base import Component, switched
 from ..effects.layout import (
     CIRCUITS,
     CORE_PARAMS,
@@ -29,7 +29,8 @@ _KERNELS: dict[tuple, dict] = {}
 
 @dataclass(frozen=True)
 class Layout:
-    """Where each component's parameters and states sit in the flat vectors."""
+    """Where each component's parameters and states sit in the flat vectors (a
+    :func:`switched` component's slice ends with its switch)."""
 
     classes: tuple[type[Component], ...]
     param_slices: tuple[tuple[int, int], ...]
@@ -43,9 +44,10 @@ class Layout:
         s = N_CORE_STATES
         slices, offsets = [], []
         for comp in classes:
-            slices.append((p, p + len(comp.params)))
+            n = len(comp.params) + switched(comp)
+            slices.append((p, p + n))
             offsets.append(s)
-            p += len(comp.params)
+            p += n
             s += len(comp.states)
         return cls(tuple(classes), tuple(slices), tuple(offsets), p, s)
 
@@ -114,6 +116,8 @@ class Model:
         for comp in self.layout.classes:
             values = config.values_of(comp.name)
             vec += [values[p.name] for p in comp.params]
+            if switched(comp):
+                vec.append(float(any(values[k] != v for k, v in comp.neutral.items())))
         return np.array(vec, dtype=float)
 
     def param_index(self, key: str) -> int:

@@ -22,7 +22,7 @@ from functools import lru_cache
 from pathlib import Path
 
 from .. import _jit
-from ..effects.base import STAGES
+from ..effects.base import STAGES, switched
 
 _PACKAGE = Path(__file__).resolve().parents[1]
 _TEMPLATE = Path(__file__).with_name('kernel_template.py')
@@ -47,16 +47,13 @@ def _source_of(cls) -> bytes:
         return repr(id(cls)).encode()
 
 
-def _switched_on(cls, p0: int) -> str:
-    """The condition under which component ``cls`` (parameters from ``P[p0]``) is called:
-    '' (always) unless it is ``skipped_at_neutral`` and stateless: then while a parameter
-    differs from its neutral value (at which it adds exactly nothing).
+def _switched_on(cls, p1: int) -> str:
+    """The condition under which component ``cls`` (its slice of ``P`` ending before ``p1``)
+    is called: '' (always) unless it is ``skipped_at_neutral`` and stateless: then while its
+    switch is on (the slice's last entry, :func:`.assembly.switched`: a parameter differs
+    from its neutral value, at which it adds exactly nothing).
     """
-    if not (cls.skipped_at_neutral and cls.neutral) or cls.states:
-        return ''
-    names = [p.name for p in cls.params]
-    return ' or '.join(f'P[{p0 + names.index(k)}] != {float(v)!r}'
-                       for k, v in cls.neutral.items())
+    return '' if cls.states or not switched(cls) else f'P[{p1 - 1}] != 0.0'
 
 
 def module_source(layout) -> str:
@@ -69,7 +66,7 @@ def module_source(layout) -> str:
                 p0, p1 = layout.param_slices[i]
                 call = (f'_hook_{i}_{stage}(t, x, {layout.state_offsets[i]}, '
                         f'P[{p0}:{p1}], P, c, dx)')
-                switched_on = _switched_on(layout.classes[i], p0)
+                switched_on = _switched_on(layout.classes[i], p1)
                 calls += ([f'    if {switched_on}:', f'        {call}'] if switched_on
                           else [f'    {call}'])
         lines += ['@njit(cache=True, allocates=False)', f'def _{stage}(t, x, P, c, dx):',

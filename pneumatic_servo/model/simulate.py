@@ -98,7 +98,8 @@ def initial_state(model: Model, angle_rad: float = None, p_a_pa: float = None,
          core['room_temperature_k'] if t_a_k is None else t_a_k,
          core['room_temperature_k'] if t_b_k is None else t_b_k]
     for comp in model.layout.classes:
-        x += list(comp.initial_state(cfg.values_of(comp.name), command_v, ps, core))
+        if comp.states:  # (this runs for every predicted segment: skip the stateless)
+            x += list(comp.initial_state(cfg.values_of(comp.name), command_v, ps, core))
     x = np.array(x, dtype=float)
     _settle_effect_states(model, x, command_v, ps,
                           model.param_vector(cfg) if params is None else params,
