@@ -31,7 +31,6 @@ import json
 import os
 import sys
 import time
-from contextlib import contextmanager
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
@@ -49,22 +48,12 @@ def records(index: int):
             ('open loop', Record('chirp', 500.0, 10.0, integrator=second, seed=8))]
 
 
-@contextmanager
-def registered(cls):
-    """``cls`` registered for the block, unregistered after (the set is on no list)."""
-    from pneumatic_servo import effects as registry
-    registry.register(cls)
-    try:
-        yield
-    finally:
-        registry._REGISTRY.pop(cls.name, None)
-
-
 def named_only(cls, experiment, others=()):
     """The diagnosis of ``experiment`` with ``cls`` registered and tried with the named
     effects ``others`` alone (no discovery)."""
+    from pneumatic_servo import effects
     from pneumatic_servo.analysis.diagnosis import DiagnoseOptions, diagnose
-    with registered(cls):
+    with effects.registered(cls):
         return diagnose([experiment], effects=[cls.name, *others],
                         options=DiagnoseOptions(discover=False))
 
@@ -80,11 +69,12 @@ def make(cls, rec):
     """The record, generated with ``cls`` registered (unregistered again after)."""
     from dataclasses import replace
 
+    from pneumatic_servo import effects
     from pneumatic_servo.synth.varied import make_record
     values = cls.defaults()
     if 'sample_interval_s' in values:
         values['sample_interval_s'] = 1.0 / rec.rate_hz
-    with registered(cls):
+    with effects.registered(cls):
         return make_record(replace(rec, effects={cls.name: values}))
 
 

@@ -201,8 +201,7 @@ class ReturnSpring(Component):
 
 @pytest.mark.study
 def test_users_own_effect_takes_part(tmp_path):
-    registry.register(ReturnSpring)
-    try:
+    with registry.registered(ReturnSpring):
         hidden = {'test_return_spring': {'spring_rate_n_m_per_rad': 0.12}}
         root = write_dataset(tmp_path / 'spring', hidden, seed=5,
                              designs=('sine', 'closed_loop'),
@@ -215,8 +214,6 @@ def test_users_own_effect_takes_part(tmp_path):
         assert k == pytest.approx(0.12, rel=0.25)
         assert result.winner.error_reduction >= 0.5
         assert 'test_return_spring' in apply(result).effects
-    finally:
-        registry._REGISTRY.pop('test_return_spring', None)
 
 
 # ------------------------------------------------------------------------- the CLI

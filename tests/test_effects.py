@@ -301,8 +301,7 @@ class TorsionSpring(Component):
 def test_user_defined_effect_registers_and_acts_without_editing_the_package():
     """Registered for this test only: a later diagnosis (test_open_world) must not meet it
     as a named candidate."""
-    try:
-        effects.register(TorsionSpring)
+    with effects.registered(TorsionSpring):
         assert 'test_torsion_spring' in effects.names()
         cfg = ModelConfig.from_dict({'effects': {'test_torsion_spring': {
             'stiffness_n_m_per_rad': 0.5, 'rest_angle_rad': '30 deg'}}})
@@ -317,8 +316,6 @@ def test_user_defined_effect_registers_and_acts_without_editing_the_package():
         with pytest.raises(ConfigError, match='outside'):
             ModelConfig.from_dict({'effects': {'test_torsion_spring': {
                 'stiffness_n_m_per_rad': -1}}})
-    finally:
-        effects._REGISTRY.pop(TorsionSpring.name, None)
 
 
 @pytest.mark.study
@@ -358,8 +355,7 @@ def test_a_failing_user_hook_is_named_with_its_own_error():
     model runs."""
     from pneumatic_servo.errors import EffectError, SimulationError
     from pneumatic_servo.model import Stepper, simulate_batch
-    effects.register(FailingTable)
-    try:
+    with effects.registered(FailingTable):
         raises = ModelConfig.paper().with_effect('test_failing_table')
         nans = raises.with_effect('test_failing_table', {'raises': 0.0})
         model = Model(raises)
@@ -383,5 +379,3 @@ def test_a_failing_user_hook_is_named_with_its_own_error():
         with pytest.raises(SimulationError, match=nan):
             for _ in range(300):
                 stepper.step(5.3)
-    finally:
-        effects._REGISTRY.pop('test_failing_table', None)

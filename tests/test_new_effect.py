@@ -40,9 +40,8 @@ class PreloadedSpring(Component):
 
 @pytest.fixture
 def spring():
-    registry.register(PreloadedSpring)
-    yield PreloadedSpring.name
-    registry._REGISTRY.pop(PreloadedSpring.name, None)
+    with registry.registered(PreloadedSpring):
+        yield PreloadedSpring.name
 
 
 @pytest.mark.study
@@ -88,10 +87,7 @@ class StifferSpring(_PlainSpring):
 
 
 def test_a_subclass_inherits_a_plain_hook_and_runs():
-    registry.register(StifferSpring)  # its parent was never registered, so never compiled
-    try:
+    with registry.registered(StifferSpring):  # its parent was never registered, so never compiled
         t = np.arange(0.0, 0.5, 1e-3)
         moved = simulate(Model(hidden_config([StifferSpring.name])), t, 5.4).angle_rad[-1]
         assert abs(moved - simulate(None, t, 5.4).angle_rad[-1]) > 1e-3
-    finally:
-        registry._REGISTRY.pop(StifferSpring.name, None)

@@ -108,13 +108,10 @@ class EngagingSpring(Component):
 @pytest.fixture(scope='module')
 def engaging():
     """Records of a rig with :class:`EngagingSpring`, and their diagnosis."""
-    registry.register(EngagingSpring)
-    try:
+    with registry.registered(EngagingSpring):
         exps = make_hidden_set({EngagingSpring.name: EngagingSpring.defaults()}, seed=11,
                                designs=('closed_loop', 'sine'),
                                durations={'closed_loop': 8.0, 'sine': 4.0}, rate_hz=250.0)
-    finally:
-        registry._REGISTRY.pop(EngagingSpring.name, None)
     return exps, diagnose(exps)
 
 

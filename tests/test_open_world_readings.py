@@ -39,12 +39,9 @@ def test_a_lagging_pressure_transmitter_is_read_as_a_lag_of_its_reading():
     its lag terms are, over the record, about the transmitter's 10 ms."""
     from pneumatic_servo.analysis.diagnosis.readings import equivalent_lag_ms
     from pneumatic_servo.synth.varied import Record, make_record
-    registry.register(LaggingTransmitterB)
-    try:
+    with registry.registered(LaggingTransmitterB):
         exp = make_record(Record('closed_steps', 1000.0, 10.0, seed=5, effects={
             LaggingTransmitterB.name: {'lag_s': 0.01}}))
-    finally:
-        registry._REGISTRY.pop(LaggingTransmitterB.name, None)
     result = diagnose([exp])
     assert result.status == 'unexplained' and result.verdict == 'none', result.reason
     best = result.discovered[0]
@@ -86,8 +83,7 @@ def _blocked_record(cls, seed=3):
     from pneumatic_servo.model import Model, ModelConfig
     from pneumatic_servo.model.circuits import gauge_supply_pa
     from pneumatic_servo.synth.runs import blocked_run
-    registry.register(cls)
-    try:
+    with registry.registered(cls):
         cfg = ModelConfig.paper().with_effect(cls.name)
         t = np.arange(4001) * 1e-3
         levels = np.array([5.0, 6.0, 4.3, 5.7, 4.6, 6.2, 4.0, 5.4, 5.0, 5.9])
@@ -98,8 +94,6 @@ def _blocked_record(cls, seed=3):
         if cls.sensor_error is not None:
             error = cls.sensor_error(cls.defaults(), true, cfg.core)
             true = {k: v + error.get(k, 0.0) for k, v in true.items()}
-    finally:
-        registry._REGISTRY.pop(cls.name, None)
     rng = np.random.default_rng(seed)
     noise = {'p_a_pa': 300.0, 'p_b_pa': 300.0, 't_a_k': 0.05, 't_b_k': 0.05}
     signals = {k: v + rng.normal(0.0, noise[k], len(v)) for k, v in true.items()}
@@ -167,12 +161,9 @@ def test_a_reading_the_records_cannot_tell_from_the_chosen_one_is_said_beside_it
     its own words and under ``fits_as_well``, with the record that would tell them apart."""
     from pneumatic_servo.effects.terms import BY_NAME
     from pneumatic_servo.synth.varied import Record, make_record
-    registry.register(LoadedGearFriction)
-    try:
+    with registry.registered(LoadedGearFriction):
         exp = make_record(Record('chirp', 500.0, 10.0, integrator='rk4', seed=8, effects={
             LoadedGearFriction.name: {'torque_per_pa': 5e-7}}))
-    finally:
-        registry._REGISTRY.pop(LoadedGearFriction.name, None)
     result = diagnose([exp])
     assert result.verdict == 'none', result.reason
     best = result.discovered[0]
@@ -210,12 +201,9 @@ def test_a_gauge_transmitters_gain_error_is_read_over_its_span():
     chamber pressure follows the command, as a level plus a crosstalk of the command that
     fits a little closer held out but not clearly: the gauge reading leads, at its size."""
     from pneumatic_servo.synth.varied import Record, make_record
-    registry.register(GaugeGainA)
-    try:
+    with registry.registered(GaugeGainA):
         exp = make_record(Record('chirp', 500.0, 10.0, seed=5,
                                  effects={GaugeGainA.name: {'gain_error': 0.03}}))
-    finally:
-        registry._REGISTRY.pop(GaugeGainA.name, None)
     result = diagnose([exp])
     best = result.discovered[0]
     assert (result.verdict, best.equation, best.leading) == \

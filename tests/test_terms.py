@@ -218,8 +218,7 @@ def test_an_emitted_memory_correction_simulates_as_the_package_one(tmp_path):
                    f'{name}.command_times_pressure_difference_coefficient': 3e-7}
     cls = _emitted(_discovered('valve_input', coefficient), tmp_path, 'hyst')
     assert [s.name for s in cls.states] == ['command_memory_v']
-    registry.register(cls)
-    try:
+    with registry.registered(cls):
         t = np.arange(0.0, 1.0, 1e-3)
         u = 5.0 + 0.4 * np.sign(np.sin(2 * np.pi * 3 * t))
         package = ModelConfig.paper().with_effect(name, {
@@ -227,8 +226,6 @@ def test_an_emitted_memory_correction_simulates_as_the_package_one(tmp_path):
         emitted = ModelConfig.paper().with_effect(cls.name, cls.example)
         a, b = simulate(package, t, u), simulate(emitted, t, u)
         plain = simulate(ModelConfig.paper(), t, u)
-    finally:
-        registry._REGISTRY.pop(cls.name, None)
     assert np.allclose(a.states[:, :4], b.states[:, :4], rtol=0, atol=1e-9)
     assert np.abs(a.states[:, 2] - plain.states[:, 2]).max() > 1e3, 'the term acts'
     assert C_U != K_GAIN  # layout names the generated code imports exist

@@ -11,6 +11,7 @@ import difflib
 import importlib
 import importlib.util
 import sys
+from contextlib import contextmanager
 from importlib.metadata import entry_points
 from pathlib import Path
 
@@ -21,8 +22,8 @@ from .catalogue import CATALOGUE
 from .corrections import CORRECTIONS
 from .paper import PAPER_COMPONENTS, PAPER_DEFAULTS
 
-__all__ = ['Component', 'Param', 'State', 'register', 'get', 'names', 'CATALOGUE_NAMES',
-           'PAPER_DEFAULTS']
+__all__ = ['Component', 'Param', 'State', 'register', 'registered', 'get', 'names',
+           'CATALOGUE_NAMES', 'PAPER_DEFAULTS']
 
 _REGISTRY: dict[str, type[Component]] = {}
 CATALOGUE_NAMES = tuple(c.name for c in CATALOGUE)
@@ -52,6 +53,17 @@ def register(cls: type[Component]) -> type[Component]:
             setattr(cls, stage, njit(hook))
     _REGISTRY[cls.name] = cls
     return cls
+
+
+@contextmanager
+def registered(cls: type[Component]):
+    """``cls`` registered for the block and unregistered after it: to try an effect in a
+    session without leaving it a candidate of every later diagnosis."""
+    register(cls)
+    try:
+        yield cls
+    finally:
+        _REGISTRY.pop(cls.name, None)
 
 
 def _load_entry_points() -> None:
