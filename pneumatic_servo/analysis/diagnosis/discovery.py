@@ -133,14 +133,15 @@ def _distinct(S: np.ndarray, order: list[int], limit: float = 0.999) -> list[int
     """``order`` without the columns that are (nearly) parallel to an earlier one: over
     these data the two terms are the same (a constant supply is a constant), and the
     simpler one, first in the equation's terms, is kept."""
-    kept = []
-    norms = np.linalg.norm(S, axis=0)
-    for j in sorted(order):
-        if norms[j] == 0:
-            continue
-        if all(abs(S[:, j] @ S[:, i]) < limit * norms[i] * norms[j] for i in kept):
-            kept.append(j)
-    return [j for j in order if j in kept]
+    cols = sorted(order)
+    gram = S[:, cols].T @ S[:, cols]  # one product for every pair (a dot each took seconds)
+    norms = np.sqrt(np.diag(gram))
+    kept: list[int] = []
+    for a in range(len(cols)):
+        if norms[a] > 0 and np.all(np.abs(gram[a, kept]) < limit * norms[kept] * norms[a]):
+            kept.append(a)
+    chosen = {cols[a] for a in kept}
+    return [j for j in order if j in chosen]
 
 
 def _leading_terms(model, host, keys, terms, r_fit, S_fit, data, blocks, per_equation: int):
@@ -254,15 +255,17 @@ def _path(first, lead, S_fit, S_val, block, costs, base_val, n_eff, max_terms):
     best = ([first], np.array([c0]), rss, bic(rss, [first]))
     cols, coef = [first], [c0]
     for _ in range(max_terms - 1):
-        trials = []
-        for j in _distinct(S_fit, [j for j in block if j not in cols]):
-            d = _slope_fit(r_fit, S_fit[:, j])
-            fit_rss = float(np.sum((r_fit + S_fit[:, j] * d) ** 2))
-            trials.append((n_eff * math.log(max(fit_rss, 1e-300))
-                           + costs[j] * math.log(n_eff), j, d))
-        if not trials:
+        # each candidate's least-squares step on the fit residual, all at once
+        cand = _distinct(S_fit, [j for j in block if j not in cols])
+        if not cand:
             break
-        _, j, d = min(trials)
+        S = S_fit[:, cand]
+        steps = -(S.T @ r_fit) / np.einsum('ij,ij->j', S, S)  # no zero column is distinct
+        crit = (n_eff * np.log(np.maximum(np.sum((r_fit[:, None] + S * steps) ** 2, axis=0),
+                                          1e-300))
+                + np.array([costs[j] for j in cand]) * math.log(n_eff))
+        best_k = int(np.argmin(crit))  # the first of a tie: the simplest
+        j, d = cand[best_k], float(steps[best_k])
         cols, coef = cols + [j], coef + [d]
         r_fit, r_val = r_fit + S_fit[:, j] * d, r_val + S_val[:, j] * d
         rss = float(r_val @ r_val)
