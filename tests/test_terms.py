@@ -53,6 +53,30 @@ def test_compiled_hooks_evaluate_the_terms_expressions(hosts, equation):
         assert (got - zero) == pytest.approx(scale * c * want, rel=1e-9, abs=1e-15), term.name
 
 
+@pytest.mark.parametrize('equation', ['moment_balance', 'mass_balance_a'])
+def test_a_corrections_switch_is_on_while_a_coefficient_is_set_and_off_it_adds_nothing(
+        hosts, equation):
+    """The parameter vector ends each correction's slice with its switch (1 while a
+    coefficient is not zero), and the compiled model reads the switch: with it forced off,
+    a set coefficient adds nothing, in a stateless correction (not called) and in one with
+    a memory (called, its terms skipped)."""
+    cfg, model = hosts
+    cls = BY_EQUATION[equation]
+    _, end = model.layout.param_slices[model.layout.classes.index(cls)]
+    one = with_values(cfg, [f'{cls.name}.{coefficient_name("constant")}'],
+                      [0.5 * cls.equation.size])
+    assert model.param_vector(cfg)[end - 1] == 0.0 and model.param_vector(one)[end - 1] == 1.0
+    x = initial_state(model, command_v=COMMAND_V, supply_pa=SUPPLY_PA, config=cfg, **STATE)
+    slot = SLOTS[equation][0]
+
+    def context(params):
+        return model.evaluate(x, COMMAND_V, SUPPLY_PA, params=params)[0][slot]
+    forced_off = model.param_vector(one)
+    forced_off[end - 1] = 0.0
+    assert context(model.param_vector(one)) != context(model.param_vector(cfg))
+    assert context(forced_off) == context(model.param_vector(cfg))
+
+
 def test_every_equation_offers_the_plain_terms_and_sensors_the_shafts_memory():
     plain = [t.name for t in TERMS if t.equations is None]
     for eq in EQUATIONS:

@@ -165,7 +165,7 @@ def hook_source(eq: Equation, used: list[Term], name: str = '_correction',
                                       else v.compiled) for v in terms.variables_of(used))]
     if skip_zero:
         # p[len(used)] is the hook's switch (1.0 while a coefficient is not zero:
-        # ``model.assembly.switched``); a hook with a memory runs always, to move it
+        # ``.base.switched``); a hook with a memory runs always, to move its memory
         plain = [(i, t) for i, t in enumerate(used) if not t.modulates]
         lines += ['    term = 0.0', f'    if p[{len(used)}] != 0.0:',
                   *(f'        if p[{i}] != 0.0:\n            term += p[{i}] * '

@@ -171,7 +171,7 @@ class ModelConfig:
     # --------------------------------------------------------------- variants
     def copy(self) -> 'ModelConfig':
         # the values are numbers: copying each section's dict copies them all (a deep copy
-        # took a tenth of a diagnosis, which builds a config for every trial value)
+        # is slow, and a diagnosis builds a config for every trial value)
         return type(self)(dict(self.core), _copied(self.components), _copied(self.effects))
 
     def with_effect(self, name: str, values: dict | None = None) -> 'ModelConfig':

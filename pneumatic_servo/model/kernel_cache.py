@@ -50,7 +50,7 @@ def _source_of(cls) -> bytes:
 def _switched_on(cls, p1: int) -> str:
     """The condition under which component ``cls`` (its slice of ``P`` ending before ``p1``)
     is called: '' (always) unless it is ``skipped_at_neutral`` and stateless: then while its
-    switch is on (the slice's last entry, :func:`.assembly.switched`: a parameter differs
+    switch is on (the slice's last entry, :func:`..effects.base.switched`: a parameter differs
     from its neutral value, at which it adds exactly nothing).
     """
     return '' if cls.states or not switched(cls) else f'P[{p1 - 1}] != 0.0'
