@@ -58,14 +58,21 @@ def plant_graph(probe, procs, plant) -> set:
             if name not in ('/rosout', '/parameter_events')}
 
 
-def stamps(probe, seconds: float = 1.5) -> dict:
-    """Per measurement topic: the stamps [s] of what arrived over a window."""
+def stamps(probe, needed: int = 10, deadline_s: float = 30.0) -> dict:
+    """Per measurement topic: the stamps [s] of what arrived until every topic brought
+    ``needed`` samples, or ``deadline_s`` passed (a loaded machine delivers fewer per
+    second: a fixed 1.5 s window once saw 7 joint states from a replay)."""
     probe.joint.clear()
     probe.topics.clear()
-    probe.spin(seconds)
-    series = {'joint_states': [j[0] for j in probe.joint]}
-    series.update({k: [x[0] for x in v] for k, v in probe.topics.items()})
-    return {topic: set(series.get(topic, [])) for topic in MEASUREMENTS}
+
+    def series():
+        out = {'joint_states': [j[0] for j in probe.joint]}
+        out.update({k: [x[0] for x in v] for k, v in probe.topics.items()})
+        return {topic: set(out.get(topic, [])) for topic in MEASUREMENTS}
+    end = time.monotonic() + deadline_s
+    while time.monotonic() < end and min(map(len, series().values())) < needed:
+        probe.spin(0.5)
+    return series()
 
 
 def test_backend_switch_same_graph_and_rates_and_recorder(procs, probe, tmp_path):
