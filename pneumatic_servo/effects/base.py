@@ -109,9 +109,11 @@ class Component:
     shares_host: ClassVar[bool] = False
     #: Whether the compiled model calls its hooks only while a parameter differs from
     #: ``neutral``: for a component that sits at neutral in most simulations and costs
-    #: something there, like a leak's orifice flow or a generic correction's terms (for a
-    #: short hook the test costs more than the call, measured). Ignored for a component
-    #: with states: skipped, they would stop moving, which changes the step control.
+    #: something there, like a leak's orifice flow or a generic correction's terms. The
+    #: test reads one number, the switch that ends its slice of the parameter vector
+    #: (:func:`switched`). A component with states is called always (skipped, they would
+    #: stop moving, which changes the step control); its hook may read the switch itself,
+    #: as a generic correction's does to skip its terms.
     skipped_at_neutral: ClassVar[bool] = False
     #: The experiment that excites this effect more than its look-alikes, in words.
     excitation: ClassVar[str] = ''
