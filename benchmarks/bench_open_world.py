@@ -5,10 +5,12 @@ real-time stepper's fixed-step RK4, not the predictor's integrator).
 
 For each record it prints the status, any named verdict, and the best generic correction:
 its equation, its leading term and whether that is the right equation, the right dependence
-(``Discovered.depends_on``: the variables of the leading term and of the terms that make its
-size vary, its modulations) and the right closed form (see
-``open_world_set``); and whether the right dependence is said at all: led, or among the
-readings said to fit as well (``fits_as_well``), which the records cannot tell apart.
+(``Discovered.depends_on``: the variables of the leading term, of the terms that make its
+size vary, its modulations, and those the test variable by variable adds, each printed
+``+variable`` where it is added and ``-variable`` where tried and not) and the right closed
+form (see ``open_world_set``); whether the right dependence is said at all: led, or among
+the readings said to fit as well (``fits_as_well``), which the records cannot tell apart;
+and whether it was right before the test variable by variable (the last mark).
 Then the hit rates beside the target (80 % for equation and dependence) and the count of
 confident wrong names (target 0), with the machine's load.
 
@@ -103,16 +105,18 @@ def _closed_form_right(cls, lead: str, result) -> bool | None:
 
 def judge(cls, result) -> dict:
     """What the diagnosis said, and whether it is right (see module doc)."""
+    from pneumatic_servo.analysis.diagnosis.interpret import depends_on
     from pneumatic_servo.effects.terms import BY_NAME
     # a name stated as (part of) the answer: 'explained', or 'partly_explained' with a named
     # first effect; the effect is on no list, so any name is wrong
     out = {'status': result.status, 'verdict': result.verdict,
            'detected': result.status != 'consistent',
            'wrong_name': result.verdict not in ('none', '')
-           and result.status in ('explained', 'partly_explained')}
+           and result.status in ('explained', 'partly_explained'),
+           'dependence_seconds': result.timings.get('dependence', 0.0)}
     if not result.discovered:
         return {**out, 'equation': None, 'leading': None, 'right_equation': False,
-                'right_dependence': False,
+                'right_dependence': False, 'right_dependence_untested': False,
                 'right_closed_form': False if cls.closed_form is not None else None,
                 'right_dependence_said': False}
     best = result.discovered[0]
@@ -121,9 +125,12 @@ def judge(cls, result) -> dict:
     right_eq = best.equation in cls.equations
     closed = _closed_form_right(cls, lead, result)
     said = [set(BY_NAME[t].depends_on) for t in (lead, *best.fits_as_well)]
+    untested = set(depends_on(best.terms, lead))  # before the test, variable by variable
     return {**out, 'equation': best.equation, 'leading': lead, 'terms': best.terms,
             'interpretation': best.interpretation, 'right_equation': right_eq,
             'right_dependence': right_eq and variables in cls.depends,
+            'right_dependence_untested': right_eq and untested in cls.depends,
+            'dependence_tests': [t.to_json() for t in best.dependence],
             'right_closed_form': right_eq and closed if closed is not None else None,
             'fits_as_well': list(best.fits_as_well),
             'right_dependence_said': right_eq and any(v in cls.depends for v in said)}
@@ -133,7 +140,8 @@ def summary(rows: list[dict]) -> dict:
     """Print and return the rates: over every record, over the detected ones and, where the
     oracle ran, over the records on which the truth earns its place."""
     keys = tuple(k for k in ('detected', 'right_equation', 'right_dependence',
-                             'right_closed_form', 'right_dependence_said')
+                             'right_dependence_untested', 'right_closed_form',
+                             'right_dependence_said')
                  if all(r[k] is not None for r in rows))  # a set may not judge closed forms
     detected = [r for r in rows if r['detected']]
     rates = {k: sum(r[k] for r in rows) / len(rows) for k in keys}
@@ -145,12 +153,18 @@ def summary(rows: list[dict]) -> dict:
                   else 'no target')
         if k == 'right_dependence_said':
             target += ': the leading term or one said to fit as well'
+        if k == 'right_dependence_untested':
+            target += ': before the test variable by variable'
         extra = f'   {given[k]:4.0%} of the detected' if k in given else ''
         print(f'  {k:<18} {rates[k]:5.0%}{extra}  ({target})')
     beaten = [r['truth_beats_name'] for r in rows if 'truth_beats_name' in r]
     print(f'  confident wrong names: {wrong} (target 0)'
           + (f'; on {beaten.count(False)} of them the truth itself does not beat the name '
              'clearly' if beaten else ''))
+    ran = [r['dependence_seconds'] for r in rows if r.get('dependence_seconds')]
+    if ran:
+        print(f'  the test variable by variable ran on {len(ran)} records: '
+              f'{sum(ran) / len(ran):.0f} s each on average, at most {max(ran):.0f} s')
     out = {'rates': rates, 'of_detected': given, 'wrong_names': wrong}
     if all('truth_earns_place' in r for r in rows):
         seen = [r for r in rows if r['truth_earns_place']]
@@ -209,10 +223,12 @@ def main(argv=None) -> int:
                 Path(args.json).write_text(json.dumps({'rows': rows}, indent=1, default=str))
             marks = ''.join('-' if row[k] is None else 'x' if row[k] else '.' for k in
                             ('right_equation', 'right_dependence', 'right_closed_form',
-                             'right_dependence_said'))
+                             'right_dependence_said', 'right_dependence_untested'))
             print(f"{cls.__name__:<24} {loop:<12} {rec.integrator:<9} {row['status']:<17} "
                   f"{row['verdict']:<20} {str(row['equation']):<20} {str(row['leading']):<36} "
                   f"{marks} {row['seconds']:4.0f} s"
+                  + ''.join(f" {'+' if t['depends'] else '-'}{t['variable']}"
+                            for t in row.get('dependence_tests', ()))
                   + (f"  truth earns its place: {row['truth_earns_place']}" if args.oracle
                      else '')
                   + (f"; beats the name clearly: {row['truth_beats_name']}"

@@ -77,6 +77,27 @@ def test_a_corrections_switch_is_on_while_a_coefficient_is_set_and_off_it_adds_n
     assert context(forced_off) == context(model.param_vector(cfg))
 
 
+def test_a_free_function_of_each_variable_is_offered_to_probe_a_dependence_never_screened():
+    """The knots of a free function of each probed variable are offered in every equation
+    the modulations are, never screened and never part of the shape over the stroke; they
+    sum to one within their span and the end knots hold beyond it."""
+    from pneumatic_servo.analysis.diagnosis.dependence import probe_keys
+    from pneumatic_servo.analysis.diagnosis.shape import shape_terms
+    from pneumatic_servo.effects.terms import N_PROBE_KNOTS, PROBED, knot
+    for equation in ('moment_balance', 'mass_balance_b', 'valve_input', 'measurement_p_a'):
+        for variable, *_ in PROBED:
+            assert len(probe_keys(equation, variable)) == N_PROBE_KNOTS, (equation, variable)
+        assert not any(t.probes and t.screened for t in BY_EQUATION[equation].equation.terms)
+        assert not any('probe' in k for k in shape_terms(equation))
+    assert not probe_keys('energy_balance_a', 'p_a')
+    x = np.linspace(-1.0, 3.0, 41)
+    basis = np.array([knot(x, 0.0, 2.0, k) for k in range(N_PROBE_KNOTS)])
+    inside = (x >= 0.0) & (x <= 2.0)
+    assert np.allclose(basis[:, inside].sum(axis=0), 1.0)
+    assert np.all(basis[0, x < 0.0] == 1.0) and np.all(basis[-1, x > 2.0] == 1.0)
+    assert knot(1.0, 0.0, 2.0, N_PROBE_KNOTS // 2) == 1.0  # the middle knot at mid-span
+
+
 def test_every_equation_offers_the_plain_terms_and_sensors_the_shafts_memory():
     plain = [t.name for t in TERMS if t.equations is None]
     for eq in EQUATIONS:

@@ -34,7 +34,7 @@ from pathlib import Path
 import numpy as np
 
 from .. import _jit
-from . import layout, terms
+from . import bases, layout, terms
 from .base import Component, Param
 from .terms import Term, offered, term_values
 
@@ -141,7 +141,7 @@ def _params(eq: Equation) -> tuple[Param, ...]:
 _LAYOUT_NAMES = ('THETA', 'OMEGA', 'P_A', 'P_B', 'T_A', 'T_B', 'C_PE', 'C_U', 'C_PS',
                  'C_PS_REG', 'C_TE', 'C_TORQUE', 'C_XV', 'C_QA', 'C_QB', 'K_NULL', 'K_STROKE',
                  'K_GAIN', 'K_HALF_W', 'K_HOLE_R', 'add_flow')
-_TERM_NAMES = ('signed_sqrt', 'window', 'hat', 'memory_direction', 'memory_rate',
+_TERM_NAMES = ('signed_sqrt', 'window', 'hat', 'knot', 'memory_direction', 'memory_rate',
                'COMMAND_PLAY_V', 'direction', 'MOTION_PLAY_RAD', 'rate', 'lag')
 
 
@@ -239,7 +239,7 @@ def _compiled_hooks() -> dict:
     # the layout's indices and the terms' functions are compiled in as constants: their
     # source is part of the key, so that an edit never loads stale machine code
     key = _jit.source_key(source, Path(layout.__file__).read_text(),
-                          Path(terms.__file__).read_text())
+                          Path(terms.__file__).read_text(), Path(bases.__file__).read_text())
     module = _jit.load_generated(f'pneumatic_servo_corrections_{key}', source)
     return {eq.name: getattr(module, f'hook_{eq.name}') for eq in EQUATIONS
             if eq.signal is None}

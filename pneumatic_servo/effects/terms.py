@@ -10,8 +10,10 @@ declared twice. The blocks:
 * **functions** of them: sign (a smooth ``tanh``), absolute value, sine and
   cosine, the signed square root of a pressure drop (an orifice), and smooth
   **windows over the stroke** (Gaussian bumps at four places), a pressure above atmosphere
-  (a gauge transmitter's span, offered to its own reading), and the knots of a **free
-  shape** over it (piecewise linear, fitted together where no closed form fits);
+  (a gauge transmitter's span, offered to its own reading), the knots of a **free
+  shape** over it (piecewise linear, fitted together where no closed form fits), and of a
+  **free function of each variable** (fitted beside a correction to test whether it also
+  depends on that variable: :attr:`Term.probes`); the functions are in :mod:`.bases`;
 * **memory**: the direction in which the valve command last moved (a play
   operator of width :data:`COMMAND_PLAY_V`: magnetic hysteresis of a
   proportional solenoid), and the direction in which the shaft last moved (a
@@ -34,9 +36,20 @@ from functools import cached_property
 
 import numpy as np
 
-from .._jit import njit
 from . import term_words as w
 from .base import State
+from .bases import (  # noqa: F401 - the expressions call them; emitted files import them here
+    COMMAND_MEMORY_S,
+    N_KNOTS,
+    N_PROBE_KNOTS,
+    N_WINDOWS,
+    hat,
+    knot,
+    memory_direction,
+    memory_rate,
+    signed_sqrt,
+    window,
+)
 from .operators import direction, lag, rate  # noqa: F401 - the expressions call them
 
 #: [rad/s] and [V]: widths over which the direction of motion and the side of the valve
@@ -45,16 +58,11 @@ SIGN_VELOCITY_WIDTH = 0.01
 SIGN_COMMAND_WIDTH = 0.02
 #: [V] width of the play whose output gives the direction the command last moved in
 COMMAND_PLAY_V = 0.05
-#: [s] time constant with which the command's memory follows outside its play band (fast
-#: against the loop, slow enough not to stiffen the integration)
-COMMAND_MEMORY_S = 0.002
 #: [rad] width of the play whose output gives the direction the shaft last moved in
 MOTION_PLAY_RAD = 0.004
-#: windows over the stroke: Gaussian bumps centred at (k + 1/2) / N_WINDOWS of the stroke
-N_WINDOWS = 4
-#: knots of a free shape over the stroke (the shape stage, :mod:`..analysis.diagnosis.shape`):
-#: piecewise linear between equally spaced knots from one end stop to the other
-N_KNOTS = 8
+#: [rad/s] the shaft speeds a free function of the speed spans (knots at 0 and +-half of it):
+#: the records' step and chirp moves stay within it, and beyond it the end knots hold
+PROBE_SPEED_RAD_S = 4.0
 #: [s] time constants of the first-order lags a reading is offered through: a pressure
 #: transmitter on a short line and on a long thin one. A coefficient c on a lag of tau is,
 #: to first order, a lag of c tau; a lag as fast as the record's steps is far from its
@@ -64,43 +72,6 @@ N_KNOTS = 8
 LAGS_S = {'p_a': (0.005, 0.02), 'p_b': (0.005, 0.02)}
 #: the signal each lagged reading is of, a typical rate of change [unit/s] and the unit
 _READINGS = {'p_a': ('p_a_pa', 2e6, 'Pa'), 'p_b': ('p_b_pa', 2e6, 'Pa')}
-
-
-# --- functions the expressions call: scalar in compiled hooks, arrays in numpy ----------
-@njit(cache=True)
-def signed_sqrt(v):
-    """sign(v) sqrt(|v|): an orifice's flow against its pressure drop."""
-    return np.sign(v) * np.sqrt(np.abs(v))
-
-
-@njit(cache=True)
-def window(angle, stroke, k):
-    """Smooth window ``k`` of :data:`N_WINDOWS` over the stroke [1]."""
-    centre = (k + 0.5) / N_WINDOWS * stroke
-    width = stroke / (2.0 * N_WINDOWS)
-    return np.exp(-0.5 * ((angle - centre) / width) ** 2)
-
-
-@njit(cache=True)
-def hat(angle, stroke, k):
-    """Basis function ``k`` of a piecewise-linear shape over the stroke [1]: 1 at knot k of
-    :data:`N_KNOTS` (equally spaced from 0 to ``stroke``), falling linearly to 0 at its
-    neighbours; beyond the end stops the end knots hold."""
-    u = np.minimum(np.maximum(angle / stroke, 0.0), 1.0) * (N_KNOTS - 1)
-    return np.maximum(1.0 - np.abs(u - k), 0.0)
-
-
-@njit(cache=True)
-def memory_direction(offset, width):
-    """The command's direction from its distance to the memory state [1] (compiled)."""
-    return min(max(offset / (0.5 * width), -1.0), 1.0)
-
-
-@njit(cache=True)
-def memory_rate(offset, width):
-    """d(memory)/dt [V/s]: the memory follows the command outside its play band."""
-    half = 0.5 * width
-    return (offset - min(max(offset, -half), half)) / COMMAND_MEMORY_S
 
 
 # --- variables --------------------------------------------------------------------------
@@ -167,8 +138,8 @@ BY_VARIABLE = {v.name: v for v in VARIABLES}
 @dataclass(frozen=True)
 class Term:
     """A candidate term: its name, SI unit, a typical magnitude on a rig, its words, its
-    expression over :data:`VARIABLES` and the functions above, and the equations it is
-    offered in (None: every equation that can evaluate it)."""
+    expression over :data:`VARIABLES` and the functions of :mod:`.bases`, and the equations
+    it is offered in (None: every equation that can evaluate it)."""
 
     name: str
     unit: str
@@ -192,6 +163,9 @@ class Term:
     #: modulator it is multiplied by (:data:`BY_MODULATOR`)
     modulates: str = ''
     modulator: str = ''
+    #: for a knot of the free function of one variable fitted beside a correction (never
+    #: screened, never an answer): that variable, whose dependence it probes
+    probes: str = ''
 
     @cached_property
     def variables(self) -> list[str]:
@@ -285,6 +259,17 @@ MODULATORS = (
 #: modulator name -> (expression, SI unit, typical size, words)
 BY_MODULATOR = {m[0]: m[1:] for m in MODULATORS}
 _FLOWS = ('mass_balance_a', 'mass_balance_b')
+#: the equations a carrier is modulated in and a dependence is probed in (not the energy
+#: balances or the temperatures)
+_MODULATED = ('moment_balance', *_FLOWS, 'valve_input', 'measurement_supply',
+              'measurement_angle', 'measurement_p_a', 'measurement_p_b')
+#: the variables a correction's dependence is probed on, each over the span a free
+#: function of it covers: (variable, low, high, words)
+PROBED = (('angle', '0.0', 'stroke', 'the shaft angle'),
+          ('velocity', f'-{PROBE_SPEED_RAD_S}', f'{PROBE_SPEED_RAD_S}', 'the shaft speed'),
+          ('p_a', 'p_atm', 'supply', 'the chamber a pressure'),
+          ('p_b', 'p_atm', 'supply', 'the chamber b pressure'),
+          ('command', '-5.0', '5.0', 'the valve command'))
 TERMS = (
     Term('constant', '1', 1.0, 'one (a constant term)', '1.0',
          says={'torque': w.constant_torque, 'flow': w.constant_flow, 'valve': w.constant_valve,
@@ -373,6 +358,10 @@ TERMS = (
     *(Term(f'angle_shape_{k}', '1', 1.0, f'knot {k + 1} of {N_KNOTS} of a free shape over '
            'the stroke', f'hat(angle, stroke, {k})', ('moment_balance', 'measurement_angle'),
            screened=False) for k in range(N_KNOTS)),
+    # free functions of one variable: whether a correction also depends on it (probes)
+    *(Term(f'{v}_probe_{k}', '1', 1.0, f'knot {k + 1} of {N_PROBE_KNOTS} of a free function '
+           f'of {words}', f'knot({v}, {low}, {high}, {k})', _MODULATED, screened=False,
+           probes=v) for v, low, high, words in PROBED for k in range(N_PROBE_KNOTS)),
     # dynamics of a sensor: a lag of tau reads, to first order, -tau times the rate
     *(Term(f'rate_p_{k}', 'Pa/s', 2e6, f'rate of change of p_{k} (a lagging transmitter)',
            f'p_{k}_rate', (f'measurement_p_{k}',), says={'reading': w.pressure_rate_reading})
@@ -394,9 +383,6 @@ TERMS = (
            says={'reading': w.lag_reading})
       for v, taus in LAGS_S.items() for tau in taus),
 )
-#: the equations a carrier is modulated in (not the energy balances or the temperatures)
-_MODULATED = ('moment_balance', *_FLOWS, 'valve_input', 'measurement_supply',
-              'measurement_angle', 'measurement_p_a', 'measurement_p_b')
 TERMS += modulations(
     [t for t in TERMS if t.cost == 1 and t.equations is None and t.depends_on],
     MODULATORS, _MODULATED, exclude={('sign_velocity', 'pressure_difference')} | {
@@ -427,7 +413,7 @@ def _array_namespace(signals: dict, core: dict, variables) -> dict:
     default), with the functions the expressions call."""
     n = len(next(iter(signals.values())))
     ns = {'np': np, 'signed_sqrt': signed_sqrt, 'window': window, 'direction': direction,
-          'rate': rate, 'lag': lag, 'hat': hat,
+          'rate': rate, 'lag': lag, 'hat': hat, 'knot': knot,
           'COMMAND_PLAY_V': COMMAND_PLAY_V, 'MOTION_PLAY_RAD': MOTION_PLAY_RAD,
           'signals': signals, 'core': core}
     ns['p_atm'] = float(core['atmospheric_pressure_pa'])

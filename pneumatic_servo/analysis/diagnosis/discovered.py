@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+from ...effects.terms import VARIABLES
 from .candidates import Candidate
 from .interpret import depends_on, leading
 
@@ -32,6 +33,8 @@ class Discovered(Candidate):
     #: leading term -> interpretation of corrections of other variables that these records
     #: fit as well (:func:`alike`)
     fits_as_well: dict = field(default_factory=dict)
+    #: the variables tested beside it, one by one (:mod:`.dependence`)
+    dependence: tuple = ()
 
     @property
     def terms(self) -> dict[str, float]:
@@ -44,9 +47,12 @@ class Discovered(Candidate):
 
     @property
     def depends_on(self) -> list[str]:
-        """The variables the correction depends on: its leading term's, and those of the
-        terms that make the leading term's size vary (:func:`.interpret.varies_with`)."""
-        return depends_on(self.terms, self.leading)
+        """The variables the correction depends on: its leading term's, those of the terms
+        that make the leading term's size vary (:func:`.interpret.varies_with`), and those a
+        free function of which, beside it, explains clearly more (:mod:`.dependence`)."""
+        used = {*depends_on(self.terms, self.leading),
+                *(t.variable for t in self.dependence if t.depends)}
+        return [v.name for v in VARIABLES if v.name in used]
 
     def to_json(self) -> dict:
         stderr = terms_of(self.stderr)
@@ -55,4 +61,5 @@ class Discovered(Candidate):
                 'interpretation': self.interpretation,
                 'screened_reduction': self.screened_reduction, 'term_sizes': self.sizes,
                 'depends_on': self.depends_on,
+                'dependence_tests': [t.to_json() for t in self.dependence],
                 'term_shares': self.shares, 'fits_as_well': dict(self.fits_as_well)}

@@ -16,7 +16,8 @@ prepare and split the data; fit the baseline; measure the floor; screen, fit and
 rank the named candidates; discover generic corrections where the model departs;
 fit a second named effect on top of the first where the decision needs it;
 decide; where no name fits, fit a free shape beside the closed form found (shape before
-formula); validate on other experiments; the ladder.
+formula); test, variable by variable, what the best correction depends on
+(:mod:`.dependence`); validate on other experiments; the ladder.
 
 How the residual is formed:
 
@@ -50,6 +51,7 @@ from ..residuals import residual_tests, summary
 from .candidates import Baseline, Candidate, baseline, candidate_effects, screen_effect, try_effect
 from .criteria import Levels, certain
 from .data import Data
+from .dependence import probe_dependence
 from .discovery import Discovered, correction_host, discover
 from .hosts import host_for, shareable, shared_host
 from .ladder import ladder
@@ -62,7 +64,6 @@ from .status import Pair, best_generic, best_named, clearly_better, decide, need
 from .trial import Trial, floor_for
 from .validation import score_on, validate
 from .verdict import rank
-
 
 #: second effects fitted in full on top of the first (the best of their screens)
 PAIR_FITS = 2
@@ -181,6 +182,8 @@ def diagnose(experiments: list[Experiment], config: ModelConfig | None = None,
             on_top, True)
     if finding.status == 'unexplained' and found:
         finding, found = timed('shape', shape_before_formula, trial, finding, found)
+    if finding.status in ('partly_explained', 'unexplained') and found:
+        found = [timed('dependence', probe_dependence, trial, found[0]), *found[1:]]
     other = Data.of(validate_on, options) if validate_on else None
     if other is not None:
         ranking, found, finding = timed('validation', validated, trial, ranking, found,

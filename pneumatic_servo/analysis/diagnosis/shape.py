@@ -103,7 +103,8 @@ class ShapeCheck:
 
 def shape_terms(equation: str) -> list[str]:
     """The knots of a free shape offered in ``equation`` (none: it has no shape stage)."""
-    return [t.name for t in BY_EQUATION[equation].equation.terms if not t.screened]
+    return [t.name for t in BY_EQUATION[equation].equation.terms
+            if not t.screened and not t.probes]
 
 
 def angle_functions(equation: str) -> list[str]:

@@ -62,10 +62,10 @@ class Finding:
     look_on_top: bool = False
 
 
-def clearly_better(trial: Trial, d: Candidate, c: Candidate, left: Departures | None = None
-                   ) -> bool:
-    """Correction ``d`` explains the held-out data clearly better than ``c``: its gain over
-    ``c`` is significant at the candidate level and of practical size. ``left``: what ``c``
+def gain_over(trial: Trial, d: Candidate, c: Candidate, left: Departures | None = None,
+              added: int | None = None) -> tuple[float, float]:
+    """(one-sided p-value, size in prediction floors) of the held-out gain of ``d`` over
+    ``c``, with ``added`` parameters more (default all of ``d``'s). ``left``: what ``c``
     leaves against its own floor; where that floor holds the scatter of ``c``'s fit
     (:mod:`.refit`), ``c``'s mean square is first taken down by that scatter's mean factor:
     fitting a little better than the named effect's own fit lands is no sign of a better
@@ -75,8 +75,16 @@ def clearly_better(trial: Trial, d: Candidate, c: Candidate, left: Departures | 
         ref = replace(ref, overall=ref.overall / math.sqrt(left.floor.refit_factor()))
     gain = explained_rms(ref, d.score) / max(trial.floor.rms(), 1e-300)
     units = trial.data.independent
-    return (gain_p_value(ref, d.score, d.n_params, units) <= trial.levels.candidate
-            and gain >= trial.options.practical_size)
+    return gain_p_value(ref, d.score, d.n_params if added is None else added, units), gain
+
+
+def clearly_better(trial: Trial, d: Candidate, c: Candidate, left: Departures | None = None
+                   ) -> bool:
+    """Correction ``d`` explains the held-out data clearly better than ``c``: its gain over
+    ``c`` (:func:`gain_over`) is significant at the candidate level and of practical
+    size."""
+    p_value, gain = gain_over(trial, d, c, left)
+    return p_value <= trial.levels.candidate and gain >= trial.options.practical_size
 
 
 def best_generic(trial: Trial, discovered: list[Candidate]) -> Candidate | None:
