@@ -110,15 +110,15 @@ def _residuals(model, host, keys, values, parts) -> list[np.ndarray]:
 
 
 def _sensitivities(model, host, keys, steps, parts) -> tuple[np.ndarray, np.ndarray]:
-    """(residual of ``host``, sensitivity matrix) over ``parts``: one batch."""
+    """(residual at zero, sensitivity matrix) over ``parts``: one batch."""
     r0 = stack(residual_rows(model, parts, [host])[0])
     return r0, _slopes(model, host, keys, steps, r0, parts)
 
 
 def _slopes(model, host, keys, steps, r0, parts) -> np.ndarray:
-    """(rows, len(keys)) sensitivities over ``parts`` of the residual ``r0`` of ``host``, each
-    key stepped from its value there (zero in the screen): one batch."""
-    rows = _residuals(model, host, keys, [host.get(k) + h for k, h in zip(keys, steps)], parts)
+    """(rows, len(keys)) sensitivities over ``parts`` of the residual ``r0`` at zero: one
+    batch."""
+    rows = _residuals(model, host, keys, steps, parts)
     return np.column_stack([(r - r0) / h for r, h in zip(rows, steps)] or
                            [np.zeros((len(r0), 0))])
 
