@@ -18,6 +18,7 @@ os.environ.setdefault('MPLBACKEND', 'Agg')
 #: (--no-loadscope-reorder), and a long file started last keeps one worker going alone
 LONG_FIRST = ('ros/test_ros_monitor.py', 'test_open_world.py', 'test_diagnose.py',
               'test_open_world_readings.py', 'test_open_world_cli.py', 'test_judgement.py',
+              'test_dependence.py',
               'test_effects.py', 'test_fleet.py', 'test_bad_input.py',
               'ros/test_ros_backends.py', 'test_kernel_cache.py', 'ros/test_safety_matrix.py',
               'test_identifiability.py', 'test_monitor.py', 'ros/test_ros_closed_loop.py')
