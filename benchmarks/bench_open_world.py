@@ -19,7 +19,9 @@ would earn its place on it, had it been on the list (the class registered and di
 alone, without discovery): where even the truth does not, the record holds no evidence of
 the effect at the stated error rate, and no method held to that rate could find it. The
 rates are then printed over those records too. This is a ceiling, a little generous: the
-truth alone is one try, so its level is looser than a full diagnosis's. Of each confident
+truth alone is one try, so its level is looser than a full diagnosis's. Where the truth's
+own fit fails (a class whose parameters the fit drives to a state the model cannot
+simulate), the record counts as holding no evidence and the row keeps the error. Of each confident
 wrong name it asks whether the truth, fitted beside the name, explains the held-out data
 clearly better than the name (where it does not, the record cannot tell them apart).
 
@@ -192,6 +194,7 @@ def main(argv=None) -> int:
     from importlib import import_module
 
     from pneumatic_servo.analysis.diagnosis import diagnose
+    from pneumatic_servo.errors import PneumaticServoError
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument('--only', help='classes of the set, by name, comma-separated')
     ap.add_argument('--json', help='write every row as JSON')
@@ -214,8 +217,12 @@ def main(argv=None) -> int:
                    **judge(cls, diagnose([experiment]))}
             row['seconds'] = time.perf_counter() - t0
             if args.oracle:  # a record discovery gets right holds the evidence
-                row['truth_earns_place'] = (row['right_equation'] and row['right_dependence']
-                                            or truth_earns_place(cls, experiment))
+                try:
+                    row['truth_earns_place'] = (row['right_equation']
+                                                and row['right_dependence']
+                                                or truth_earns_place(cls, experiment))
+                except PneumaticServoError as e:  # the truth's own fit failed: no ceiling
+                    row['truth_earns_place'], row['oracle_error'] = False, str(e)
                 if row['wrong_name']:
                     row['truth_beats_name'] = truth_beats_name(cls, experiment, row['verdict'])
             rows.append(row)

@@ -19,6 +19,7 @@ import numpy as np
 from ..effects.corrections import BY_EQUATION
 from ..effects.terms import BY_NAME as TERMS
 from .diagnosis import predictions
+from .diagnosis.dependence import words as dependence_words
 from .diagnosis.result import Diagnosis
 from .diagnosis.text import HEADLINES
 from .equation_residual import equation_residual
@@ -131,8 +132,10 @@ def _discovered(out_dir: Path, result: Diagnosis) -> list[str]:
                             f'{html.escape(BY_EQUATION[d.equation].equation.unit)}'
                             + ('' if TERMS[r].unit == '1' else f'/{html.escape(TERMS[r].unit)}')
                             for r, v in d.terms.items())
+        said = dependence_words(d)
         rows.append([html.escape(d.equation), terms, f'{100 * d.error_reduction:+.1f} %',
-                     html.escape(d.interpretation)])
+                     html.escape(d.interpretation)
+                     + (f'<br><i>{html.escape(said)}</i>' if said else '')])
     out = ['<h2>Where the missing physics lives: generic correction terms</h2>',
            '<p class="note">Each term is fitted through the simulator on the same data and '
            'scored on the same held-out data as the named effects.</p>',

@@ -63,11 +63,13 @@ class DependenceTest:
     size_in_floor: float
     level: float
     depends: bool = False
+    #: the round of the forward selection it was tried in (1: beside the correction alone)
+    round: int = 1
 
     def to_json(self) -> dict:
         return {'variable': self.variable, 'p_value': self.p_value,
                 'size_in_floor': self.size_in_floor, 'level': self.level,
-                'depends': self.depends}
+                'depends': self.depends, 'round': self.round}
 
 
 def probe_keys(equation: str, variable: str, lead: str = '') -> list[str]:
@@ -97,10 +99,11 @@ def probe_dependence(trial: Trial, found: Discovered) -> Discovered:
     model = Model(host)
     level = trial.levels.candidate / len(tried)
     tests, current = [], found
-    for _ in range(ROUNDS):
+    for number in range(1, ROUNDS + 1):
         left = [v for v in tried if v not in {t.variable for t in tests if t.depends}]
         fits = {v: _fitted(trial, host, model, found, current, v) for v in left}
-        round_ = [_tested(trial, fits[v], current, v, level) for v in left]
+        round_ = [replace(_tested(trial, fits[v], current, v, level), round=number)
+                  for v in left]
         best = min((t for t in round_ if t.depends), default=None,
                    key=lambda t: (t.p_value, -t.size_in_floor))
         # only the best of a round is said: a variable that follows another over the record
@@ -116,6 +119,19 @@ def probe_dependence(trial: Trial, found: Discovered) -> Discovered:
         f'correction explains clearly more (p = {t.p_value:.2g}, {t.size_in_floor:.2f} x '
         'the prediction floor)' for t in said)
     return replace(found, dependence=tuple(tests), interpretation=text)
+
+
+def words(found: Discovered) -> str:
+    """What ``found`` depends on and the tests behind it, in one line ('' if none ran)."""
+    if not found.dependence:
+        return ''
+    rounds = sorted({t.round for t in found.dependence})
+    tried = '; then on top of it: '.join(', '.join(
+        f'{t.variable} p = {t.p_value:.2g}' + (' (said)' if t.depends else '')
+        for t in found.dependence if t.round == r) for r in rounds)
+    return (f'depends on {", ".join(found.depends_on) or "nothing that varies"}; a free '
+            f'function of each other variable tried beside it (level '
+            f'{found.dependence[0].level:.2g}): {tried}')
 
 
 def _tested(trial: Trial, richer: Discovered, current: Discovered, variable: str,

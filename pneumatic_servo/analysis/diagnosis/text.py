@@ -5,6 +5,7 @@ and a user's script print the same thing.
 """
 from __future__ import annotations
 
+from .dependence import words as dependence_words
 from .result import Diagnosis
 
 
@@ -87,6 +88,8 @@ def print_discovered(result: Diagnosis, out=print) -> None:
         terms = ', '.join(f'{r} {plus_minus(v, se[r])}' for r, v in d.terms.items())
         out(f'  {d.equation:<20} {100 * d.error_reduction:6.1f} %  {terms}')
         out(f'  {"":<20} -> {d.interpretation}')
+        if d.dependence:
+            out(f'  {"":<20} -> {dependence_words(d)}')
 
 
 def print_floor(result: Diagnosis, out=print) -> None:
