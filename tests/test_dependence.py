@@ -8,11 +8,11 @@ control at 1 kHz with laboratory sensors, through the tight integrator):
   speed, and the correction found is a torque that follows the command; the test must say
   that it also depends on the speed;
 * the weight of an arm (a torque in the sine of the angle), found as itself: the test must
-  say that it depends on nothing more.
+  say that it depends on nothing more, and it is skipped where the options say so.
 """
 from dataclasses import replace
 
-from pneumatic_servo.analysis.diagnosis import diagnose
+from pneumatic_servo.analysis.diagnosis import DiagnoseOptions, diagnose
 from pneumatic_servo.analysis.diagnosis.interpret import depends_on
 from pneumatic_servo.effects.corrections import BY_EQUATION, coefficient_name
 from pneumatic_servo.synth.varied import Record, make_record
@@ -21,9 +21,10 @@ RECORD = Record('closed_sine', 1000.0, 10.0, grade='laboratory', controller='smc
                 integrator='tight')
 
 
-def _diagnosed(term: str, value: float, seed: int):
+def _diagnosed(term: str, value: float, seed: int, **options):
     hidden = {BY_EQUATION['moment_balance'].name: {coefficient_name(term): value}}
-    return diagnose([make_record(replace(RECORD, effects=hidden, seed=seed))])
+    return diagnose([make_record(replace(RECORD, effects=hidden, seed=seed))],
+                    options=DiagnoseOptions(**options))
 
 
 def test_a_torque_read_through_a_proxy_of_the_speed_is_found_to_depend_on_the_speed():
@@ -47,3 +48,9 @@ def test_a_correction_that_is_the_whole_truth_is_said_to_depend_on_nothing_more(
     assert best.leading == 'sin_angle'
     assert best.dependence and not any(t.depends for t in best.dependence)
     assert best.depends_on == ['angle'] and 'also depends' not in best.interpretation
+
+
+def test_the_test_can_be_skipped():
+    result = _diagnosed('sin_angle', 0.2, 31, test_dependence=False)
+    assert result.discovered[0].leading == 'sin_angle'
+    assert not result.discovered[0].dependence and 'dependence' not in result.timings

@@ -101,8 +101,9 @@ def probe_dependence(trial: Trial, found: Discovered) -> Discovered:
     tests, current = [], found
     for number in range(1, ROUNDS + 1):
         left = [v for v in tried if v not in {t.variable for t in tests if t.depends}]
-        fits = {v: _fitted(trial, host, model, found, current, v) for v in left}
-        round_ = [replace(_tested(trial, fits[v], current, v, level), round=number)
+        probes = {v: probe_keys(found.equation, v, found.leading) for v in left}
+        fits = {v: _fitted(trial, host, model, found, current, probes[v]) for v in left}
+        round_ = [_tested(trial, fits[v], current, v, len(probes[v]), level, number)
                   for v in left]
         best = min((t for t in round_ if t.depends), default=None,
                    key=lambda t: (t.p_value, -t.size_in_floor))
@@ -135,22 +136,20 @@ def words(found: Discovered) -> str:
 
 
 def _tested(trial: Trial, richer: Discovered, current: Discovered, variable: str,
-            level: float) -> DependenceTest:
-    """The test of ``richer`` (``current`` with the probes of ``variable``) against
-    ``current``: its gain's p-value with the probes as the added parameters, and its size."""
-    added = len(probe_keys(richer.equation, variable, current.leading))
+            added: int, level: float, number: int) -> DependenceTest:
+    """The test, in round ``number``, of ``richer`` (``current`` with the ``added`` probes of
+    ``variable`` beside it) against ``current``: its gain's p-value and size."""
     p_value, size = gain_over(trial, richer, current, added=added)
     return DependenceTest(variable, p_value, size, level,
-                          p_value <= level and size >= trial.options.practical_size)
+                          p_value <= level and size >= trial.options.practical_size, number)
 
 
 def _fitted(trial: Trial, host, model, found: Discovered, current: Discovered,
-            variable: str) -> Discovered:
-    """``current`` (the correction ``found`` and the probes added to it) with the probes of
-    ``variable`` beside it, fitted through the simulator from zero knots, with the base
-    parameters ``found`` was fitted with, and scored held out."""
-    keys = probe_keys(found.equation, variable, found.leading)
-    start = {**current.params, **dict.fromkeys(keys, 0.0)}
+            probes: list[str]) -> Discovered:
+    """``current`` (the correction ``found`` and the probes added to it) with ``probes``
+    beside it, fitted through the simulator from zero, with the base parameters ``found``
+    was fitted with, and scored held out."""
+    start = {**current.params, **dict.fromkeys(probes, 0.0)}
     screened = ScreenedEquation(found.equation, list(start), start, 0.0)
     return confirm(screened, host, model, trial.base, trial.data, list(found.base_params),
                    trial.options)

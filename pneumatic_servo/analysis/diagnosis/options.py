@@ -70,6 +70,10 @@ class DiagnoseOptions:
     discover : bool
         Also look for generic correction terms (:mod:`.discovery`) where the missing
         physics may live outside the named effects.
+    test_dependence : bool
+        Test, variable by variable, what the best discovered correction depends on
+        (:mod:`.dependence`): one fit through the simulator per variable tried, where no
+        name fits.
     max_terms : int
         Most regressors in one discovered correction.
     discovery_fits : int
@@ -91,6 +95,7 @@ class DiagnoseOptions:
     seed: int = 0
     ambiguity: float = AMBIGUITY
     discover: bool = True
+    test_dependence: bool = True
     max_terms: int = 3
     discovery_fits: int = 3
 

@@ -182,13 +182,13 @@ def diagnose(experiments: list[Experiment], config: ModelConfig | None = None,
             on_top, True)
     if finding.status == 'unexplained' and found:
         finding, found = timed('shape', shape_before_formula, trial, finding, found)
-    if finding.status in ('partly_explained', 'unexplained') and found:
+    keep = finding.status in ('partly_explained', 'unexplained')  # validation keeps it
+    if keep and found and options.test_dependence:
         found = [timed('dependence', probe_dependence, trial, found[0]), *found[1:]]
     other = Data.of(validate_on, options) if validate_on else None
     if other is not None:
         ranking, found, finding = timed('validation', validated, trial, ranking, found,
                                         finding, other)
-    keep = finding.status in ('partly_explained', 'unexplained')
     discovered = found if keep else []
     added = added_by(finding, ranking, discovered, options)
     rungs = timed('ladder', ladder, config, trial.data, added, trial.base, other)
