@@ -151,5 +151,8 @@ def _fitted(trial: Trial, host, model, found: Discovered, current: Discovered,
     was fitted with, and scored held out."""
     start = {**current.params, **dict.fromkeys(probes, 0.0)}
     screened = ScreenedEquation(found.equation, list(start), start, 0.0)
-    return confirm(screened, host, model, trial.base, trial.data, list(found.base_params),
+    # the model ``found`` corrects (a named effect under it where it was found on top of
+    # one, whose parameters are among those refitted), as the base of the fit
+    base = replace(trial.base, config=found.config)
+    return confirm(screened, host, model, base, trial.data, list(found.base_params),
                    trial.options)
