@@ -13,8 +13,18 @@ control at 1 kHz with laboratory sensors, through the tight integrator):
 from dataclasses import replace
 
 from pneumatic_servo.analysis.diagnosis import DiagnoseOptions, diagnose
+from pneumatic_servo.analysis.diagnosis.dependence import probe_dependence
+from pneumatic_servo.analysis.diagnosis.discovery import (
+    ScreenedEquation,
+    confirm,
+    correction_host,
+)
 from pneumatic_servo.analysis.diagnosis.interpret import depends_on
+from pneumatic_servo.analysis.diagnosis.pipeline import make_trial, prepare
+from pneumatic_servo.analysis.diagnosis.verdict import rank
 from pneumatic_servo.effects.corrections import BY_EQUATION, coefficient_name
+from pneumatic_servo.model import ModelConfig
+from pneumatic_servo.model.assembly import Model
 from pneumatic_servo.synth.varied import Record, make_record
 
 RECORD = Record('closed_sine', 1000.0, 10.0, grade='laboratory', controller='smc',
@@ -54,3 +64,24 @@ def test_the_test_can_be_skipped():
     result = _diagnosed('sin_angle', 0.2, 31, test_dependence=False)
     assert result.discovered[0].leading == 'sin_angle'
     assert not result.discovered[0].dependence and 'dependence' not in result.timings
+
+
+def test_a_correction_found_on_top_of_a_named_effect_is_tested_on_that_model():
+    """Found on top of a named effect (``partly_explained``), a correction was fitted with
+    that effect's parameters refitted: its probes are fitted on the same model (on the model
+    as given, that effect's parameters do not exist)."""
+    record = Record('closed_steps', 250.0, 6.0, integrator='rk4', seed=5, effects={
+        'external_load_torque': {'load_torque_n_m': 0.3},
+        BY_EQUATION['moment_balance'].name: {coefficient_name('sin_angle'): 0.15}})
+    options = DiagnoseOptions()
+    data, base, free = prepare([make_record(record)], ModelConfig.paper(), (), options)
+    trial = make_trial(data, base, free, options, 1)
+    named = base.config.with_effect('external_load_torque', {'load_torque_n_m': 0.3})
+    host = correction_host(named)
+    key = f"{BY_EQUATION['moment_balance'].name}.{coefficient_name('sin_angle')}"
+    on_top = confirm(ScreenedEquation('moment_balance', [key], {key: 0.1}, 0.0), host,
+                     Model(host), replace(base, config=named), data,
+                     ['external_load_torque.load_torque_n_m'], options)
+    assert 'external_load_torque.load_torque_n_m' in on_top.base_params
+    found = probe_dependence(trial, rank([on_top], trial)[0])
+    assert found.dependence and found.depends_on[0] == 'angle'
