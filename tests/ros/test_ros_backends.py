@@ -19,11 +19,16 @@ MEASUREMENTS = ('joint_states', 'chamber_a/pressure', 'chamber_b/pressure', 'sup
 
 
 def rig_yaml(tmp_path, **changes) -> str:
-    """The shipped rig config with temperature transmitters wired and ``changes`` applied."""
+    """The shipped rig config with temperature transmitters wired and ``changes`` applied.
+
+    The transmitters span -60 to 200 degC: a chamber's gas cools well below 0 degC when it
+    empties fast (a controller late on a loaded machine holds a full command), and a span
+    from 0 degC then read under 0.5 V, an open wire by its fault limit, before the fault the
+    rig test injects (seen once: chamber b at about -32 degC)."""
     data = yaml.safe_load(find_config('rig_pci6229.yaml').read_text())
     for name, ch in (('temperature_a', 'ai3'), ('temperature_b', 'ai4')):
-        data[name] = {'channel': ch, 'volts_lo': 1.0, 'volts_hi': 5.0, 'value_lo': 0.0,
-                      'value_hi': 260.0, 'fault_below_v': 0.5, 'fault_above_v': 5.5}
+        data[name] = {'channel': ch, 'volts_lo': 1.0, 'volts_hi': 5.0, 'value_lo': -60.0,
+                      'value_hi': 200.0, 'fault_below_v': 0.5, 'fault_above_v': 5.5}
     for key, value in changes.items():
         if isinstance(value, dict):
             data[key].update(value)
