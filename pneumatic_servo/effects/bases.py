@@ -37,21 +37,27 @@ def window(angle, stroke, k):
 
 
 @njit(cache=True)
-def hat(angle, stroke, k):
-    """Basis function ``k`` of a piecewise-linear shape over the stroke [1]: 1 at knot k of
-    :data:`N_KNOTS` (equally spaced from 0 to ``stroke``), falling linearly to 0 at its
-    neighbours; beyond the end stops the end knots hold."""
-    u = np.minimum(np.maximum(angle / stroke, 0.0), 1.0) * (N_KNOTS - 1)
+def _tent(share, n, k):
+    """Basis function ``k`` of ``n`` piecewise-linear hats equally spaced over ``share`` from
+    0 to 1 [1]: 1 at knot k, falling linearly to 0 at its neighbours; beyond the ends the end
+    knots hold."""
+    u = np.minimum(np.maximum(share, 0.0), 1.0) * (n - 1)
     return np.maximum(1.0 - np.abs(u - k), 0.0)
 
 
 @njit(cache=True)
+def hat(angle, stroke, k):
+    """Basis function ``k`` of a piecewise-linear shape over the stroke [1]: knot k of
+    :data:`N_KNOTS`, equally spaced from 0 to ``stroke`` (:func:`_tent`)."""
+    return _tent(angle / stroke, N_KNOTS, k)
+
+
+@njit(cache=True)
 def knot(value, low, high, k):
-    """Basis function ``k`` of :data:`N_PROBE_KNOTS` piecewise-linear hats equally spaced from
-    ``low`` to ``high`` [1]: 1 at knot k, falling linearly to 0 at its neighbours; beyond the
-    ends the end knots hold (a span that is not positive holds the first)."""
-    u = np.minimum(np.maximum((value - low) / np.maximum(high - low, 1e-30), 0.0), 1.0)
-    return np.maximum(1.0 - np.abs(u * (N_PROBE_KNOTS - 1) - k), 0.0)
+    """Basis function ``k`` of a free function of one variable [1]: knot k of
+    :data:`N_PROBE_KNOTS`, equally spaced from ``low`` to ``high`` (:func:`_tent`; a span
+    that is not positive holds the first)."""
+    return _tent((value - low) / np.maximum(high - low, 1e-30), N_PROBE_KNOTS, k)
 
 
 @njit(cache=True)

@@ -91,8 +91,9 @@ def _words(variable: str) -> str:
 def probe_dependence(trial: Trial, found: Discovered) -> Discovered:
     """``found`` with the variables it also depends on tested (:class:`DependenceTest`,
     see the module doc), and its interpretation saying those it does."""
-    tried = [v for v, *_ in PROBED
-             if v not in found.depends_on and probe_keys(found.equation, v)]
+    probes = {v: probe_keys(found.equation, v, found.leading) for v, *_ in PROBED
+              if v not in found.depends_on}
+    tried = [v for v in probes if probes[v]]
     if not tried:
         return found
     host = correction_host(found.config)  # the correction and base as fitted, the rest at 0
@@ -101,7 +102,6 @@ def probe_dependence(trial: Trial, found: Discovered) -> Discovered:
     tests, current = [], found
     for number in range(1, ROUNDS + 1):
         left = [v for v in tried if v not in {t.variable for t in tests if t.depends}]
-        probes = {v: probe_keys(found.equation, v, found.leading) for v in left}
         fits = {v: _fitted(trial, host, model, found, current, probes[v]) for v in left}
         round_ = [_tested(trial, fits[v], current, v, len(probes[v]), level, number)
                   for v in left]
