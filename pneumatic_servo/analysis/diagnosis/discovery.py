@@ -212,22 +212,10 @@ def _secant(c, r, c0, r0, lower, upper) -> float:
     return float(np.clip(c + _slope_fit(r, (r - r0) / (c - c0)), lower, upper))
 
 
-def _forward_selection(lead, S_fit, S_val, block, costs, base_val: float, n_eff: float,
-                       max_terms: int):
-    """From the leading refined single term of an equation, add terms (linear in the
-    screening slopes) while the held-out BIC improves: (columns, coefficients, held-out
-    RSS, BIC). Each column counts as ``costs[column]`` parameters (:attr:`Term.cost`), so a
-    window or a product leads only where it predicts clearly better than a plain term. The
-    leading term is the simplest (first in the vocabulary) whose held-out BIC is within
-    :data:`BIC_TIE` of the best: closer than that, the data do not tell them apart."""
-    first = _first(lead, block, costs, base_val, n_eff)
-    if first is None:
-        return [], np.zeros(0), base_val, 0.0
-    return _path(first, lead, S_fit, S_val, block, costs, base_val, n_eff, max_terms)
-
-
 def _first(lead, block, costs, base_val: float, n_eff: float) -> int | None:
-    """The leading refined term of ``block`` (see :func:`_forward_selection`), or None."""
+    """The leading refined term of ``block``, or None: the simplest (first in the vocabulary)
+    whose held-out BIC is within :data:`BIC_TIE` of the best (closer than that, the data do
+    not tell them apart)."""
     bic = {j: information_criteria(base_val, float(lead[j][2] @ lead[j][2]), costs[j],
                                    n_eff)[1] for j in lead if j in block}
     if not bic:
@@ -236,23 +224,15 @@ def _first(lead, block, costs, base_val: float, n_eff: float) -> int | None:
     return min(j for j, b in bic.items() if b <= tie)
 
 
-def _from_other_starts(lead, S_fit, S_val, block, costs, base_val: float, n_eff: float,
-                       max_terms: int, first: int):
-    """The best forward path (by held-out BIC) from a leading term of ``block`` other than
-    ``first``, or None."""
-    paths = [_path(j, lead, S_fit, S_val, block, costs, base_val, n_eff, max_terms)
-             for j in sorted(lead) if j in block and j != first]
-    return min(paths, key=lambda path: path[3]) if paths else None
-
-
-def _path(first, lead, S_fit, S_val, block, costs, base_val, n_eff, max_terms):
-    """Forward selection from the refined term ``first`` (see :func:`_forward_selection`)."""
-    def bic(rss, cols):
-        return information_criteria(base_val, rss, sum(costs[j] for j in cols), n_eff)[1]
-
-    c0, r_fit, r_val = lead[first]
-    rss = float(r_val @ r_val)
-    best = ([first], np.array([c0]), rss, bic(rss, [first]))
+def _route(first: int, lead, S_fit, block, costs, n_eff: float, max_terms: int
+           ) -> tuple[list[int], list[float]]:
+    """Forward selection from the refined term ``first``: each step adds the column of
+    ``block`` (and its least-squares coefficient, linear in the screening slopes) that best
+    fits the fitted part's residual, each column counting as ``costs[column]`` parameters
+    (:attr:`Term.cost`), so a window or a product is added only where it fits clearly
+    better than a plain term. (columns, coefficients): chosen on the fitted part alone, so
+    that only the columns some route adds are simulated held out (:func:`_best_prefix`)."""
+    c0, r_fit, _ = lead[first]
     cols, coef = [first], [c0]
     for _ in range(max_terms - 1):
         # each candidate's least-squares step on the fit residual, all at once
@@ -267,11 +247,42 @@ def _path(first, lead, S_fit, S_val, block, costs, base_val, n_eff, max_terms):
         best_k = int(np.argmin(crit))  # the first of a tie: the simplest
         j, d = cand[best_k], float(steps[best_k])
         cols, coef = cols + [j], coef + [d]
-        r_fit, r_val = r_fit + S_fit[:, j] * d, r_val + S_val[:, j] * d
+        r_fit = r_fit + S_fit[:, j] * d
+    return cols, coef
+
+
+def _best_prefix(route, lead, S_val: dict, costs, base_val: float, n_eff: float):
+    """The prefix of ``route`` (:func:`_route`) with the best held-out BIC: (columns,
+    coefficients, held-out RSS, BIC). ``S_val``: held-out sensitivity of each added column."""
+    cols, coef = route
+    r_val = lead[cols[0]][2]
+    best = None
+    for k, (j, d) in enumerate(zip(cols, coef)):
+        if k:
+            r_val = r_val + S_val[j] * d
         rss = float(r_val @ r_val)
-        if bic(rss, cols) < best[3]:
-            best = (list(cols), np.array(coef), rss, bic(rss, cols))
+        bic = information_criteria(base_val, rss, sum(costs[i] for i in cols[:k + 1]),
+                                   n_eff)[1]
+        if best is None or bic < best[3]:
+            best = (cols[:k + 1], np.array(coef[:k + 1]), rss, bic)
     return best
+
+
+def _routes(lead, S_fit, blocks, costs, base_val: float, n_eff: float, max_terms: int
+            ) -> dict:
+    """Every route the selection of :func:`screen_terms` may judge, by (first column,
+    columns): from each equation's leading term over all its columns and over its plain ones
+    (cost 1), and from each of its other refined terms."""
+    routes = {}
+    for block in blocks:
+        plain = [j for j in block if costs[j] == 1]
+        starts = [(j, block) for j in sorted(lead) if j in block]
+        starts.append((_first(lead, plain, costs, base_val, n_eff), plain))
+        for j, columns in starts:
+            if j is not None:
+                routes[j, tuple(columns)] = _route(j, lead, S_fit, columns, costs, n_eff,
+                                                   max_terms)
+    return routes
 
 
 def seen_equations(data: Data) -> list:
@@ -302,7 +313,7 @@ def screen_terms(base: Baseline, data: Data, n_eff: float, options: DiagnoseOpti
         blocks.append([])
         add(eq, [t for t in eq.terms if t.screened and not t.modulates], blocks[-1])
     r_fit, S_fit = _sensitivities(model, host, keys, steps, data.fit)
-    r_val, S_val = _sensitivities(model, host, keys, steps, data.screen_val)
+    r_val = stack(residual_rows(model, data.screen_val, [host])[0])
     lead = _leading_terms(model, host, keys, terms, r_fit, S_fit, data, blocks,
                           LEADING_PER_EQUATION)
     base_val = float(r_val @ r_val)
@@ -318,8 +329,11 @@ def screen_terms(base: Baseline, data: Data, n_eff: float, options: DiagnoseOpti
                            if t.modulates == terms[firsts[i]].name], blocks[i])
     S_fit = np.column_stack([S_fit, _slopes(model, host, keys[start:], steps[start:], r_fit,
                                             data.fit)])
-    S_val = np.column_stack([S_val, _slopes(model, host, keys[start:], steps[start:], r_val,
-                                            data.screen_val)])
+    routes = _routes(lead, S_fit, blocks, costs, base_val, n_eff, options.max_terms)
+    # held out, only the columns some route adds (a third of them): one batch
+    added = sorted({j for cols, _ in routes.values() for j in cols[1:]})
+    S_val = dict(zip(added, _slopes(model, host, [keys[j] for j in added],
+                                    [steps[j] for j in added], r_val, data.screen_val).T))
     out = []
     for eq, block in zip(equations, blocks):
         def screened(path):
@@ -331,23 +345,26 @@ def screen_terms(base: Baseline, data: Data, n_eff: float, options: DiagnoseOpti
                 relative_fall(math.sqrt(rss), math.sqrt(base_val)), bic) if cols else None
 
         def select(columns):
-            """The selection over ``columns`` of this equation, or None if it has none."""
-            return screened(_forward_selection(lead, S_fit, S_val, columns, costs, base_val,
-                                               n_eff, options.max_terms))
-        path = _forward_selection(lead, S_fit, S_val, block, costs, base_val, n_eff,
-                                  options.max_terms)
+            """The best prefix of the route from the leading term of ``columns``, or an
+            empty path if they hold none."""
+            first = _first(lead, columns, costs, base_val, n_eff)
+            return ([], np.zeros(0), base_val, 0.0) if first is None else _best_prefix(
+                routes[first, tuple(columns)], lead, S_val, costs, base_val, n_eff)
+        path = select(block)
         best = screened(path)
         if best is None:
             continue
         if any(TERMS[t].cost > 1 for t in terms_of(best.start)):
-            best = replace(best, plain=select([j for j in block if costs[j] == 1]))
+            best = replace(best, plain=screened(select([j for j in block if costs[j] == 1])))
         # a plain first term's refined elaboration, whatever the path added to it (a
         # modulation of it, linear in the screen, can stand where the refined product fits)
         if costs[path[0][0]] == 1:
             best = replace(best, richer=screened(_richer(lead, path[0][0], block, terms,
                                                          costs, base_val, n_eff)))
-        other = _from_other_starts(lead, S_fit, S_val, block, costs, base_val, n_eff,
-                                   options.max_terms, path[0][0])
+        # the best route from another leading term, where it differs
+        others = [_best_prefix(routes[j, tuple(block)], lead, S_val, costs, base_val, n_eff)
+                  for j in sorted(lead) if j in block and j != path[0][0]]
+        other = min(others, key=lambda p: p[3]) if others else None
         if other is not None and set(other[0]) != set(path[0]):
             best = replace(best, other=screened(other))
         out.append(best)
