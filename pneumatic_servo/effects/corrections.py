@@ -66,11 +66,17 @@ class Equation:
     #: whether the terms offered in every equation are offered here; a temperature
     #: sensor sees no pressure or command, so its errors are its own terms and a constant
     generic: bool = True
+    #: variables that cannot act here, so no term of them is offered: a torque on the shaft
+    #: comes from the pressures, not from the valve's command, and a sensor of the angle or
+    #: of a chamber's pressure does not see the command (where such a term was offered, the
+    #: closed loop, in which the command follows every error, let it stand in for the
+    #: effect's own variables and take the equation of a valve or chamber flow error)
+    blind_to: tuple[str, ...] = ()
 
     @property
     def terms(self) -> tuple[Term, ...]:
         """The terms offered in this equation, in the order of its parameters."""
-        return offered(self.name, self.signal is not None, self.generic)
+        return offered(self.name, self.signal is not None, self.generic, self.blind_to)
 
     @property
     def memories(self) -> list:
@@ -83,10 +89,13 @@ def memories(used) -> list:
     return [v for v in terms.VARIABLES if any(v in t.memories for t in used)]
 
 
+#: the variables of the valve's command
+COMMAND = ('command', 'command_direction')
+
 EQUATIONS = (
     Equation('moment_balance', 'N.m', 1.0, 'an extra torque on the shaft',
              stage='mechanics', statement='c[C_TORQUE] += term', acts_on='angle',
-             circuits=('servo',)),
+             circuits=('servo',), blind_to=COMMAND),
     Equation('mass_balance_a', 'kg/s', 5e-5, 'an extra mass flow into chamber a',
              stage='flows', statement='add_flow(c, 0, term, c[C_TE], x[T_A])',
              acts_on='pressure'),
@@ -101,11 +110,12 @@ EQUATIONS = (
              '(the model is fed its reading)', stage='supply',
              statement='c[C_PS] -= term\n    c[C_PS_REG] -= term', order=10,
              shown_as='mass_balance_a'),
-    Equation('measurement_angle', 'rad', 0.05, 'an error of the angle sensor', 'angle_rad'),
+    Equation('measurement_angle', 'rad', 0.05, 'an error of the angle sensor', 'angle_rad',
+             blind_to=COMMAND),
     Equation('measurement_p_a', 'Pa', 2e4, 'an error of the chamber a pressure sensor',
-             'p_a_pa'),
+             'p_a_pa', blind_to=COMMAND),
     Equation('measurement_p_b', 'Pa', 2e4, 'an error of the chamber b pressure sensor',
-             'p_b_pa'),
+             'p_b_pa', blind_to=COMMAND),
     Equation('energy_balance_a', 'W', 5.0, 'an extra heat flow into chamber a', stage='heat',
              statement='c[C_QA] += term', acts_on='pressure', shown_as='mass_balance_a',
              needs=('t_a_k',)),

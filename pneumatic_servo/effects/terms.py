@@ -392,14 +392,15 @@ TERMS += modulations(
 BY_NAME = {t.name: t for t in TERMS}
 
 
-def offered(equation: str, sensor: bool, generic: bool = True) -> tuple[Term, ...]:
+def offered(equation: str, sensor: bool, generic: bool = True,
+            blind_to: tuple[str, ...] = ()) -> tuple[Term, ...]:
     """The terms offered in ``equation`` (a sensor equation is evaluated over arrays, so a
     term without a compiled form is offered there only); without ``generic``, of the terms
-    offered everywhere only the constant."""
+    offered everywhere only the constant; none that depends on a variable of ``blind_to``."""
     return tuple(t for t in TERMS
                  if (equation in (t.equations or ()) or t.equations is None
                      and (generic or not t.variables))
-                 and (sensor or t.compiled))
+                 and (sensor or t.compiled) and not set(t.depends_on) & set(blind_to))
 
 
 def variables_of(terms) -> list[Variable]:
