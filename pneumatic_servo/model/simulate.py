@@ -107,25 +107,40 @@ def initial_state(model: Model, angle_rad: float = None, p_a_pa: float = None,
     return x
 
 
-def sensor_errors(model: Model, config: ModelConfig, signals: dict) -> dict[str, np.ndarray]:
+def sensing(model: Model, config: ModelConfig) -> tuple:
+    """The components of ``model`` whose sensor errors can add to the readings under
+    ``config``: each with a ``sensor_error``, but one at its neutral values that adds exactly
+    nothing there (``skipped_at_neutral``: a generic correction not in use). A prediction
+    asks once per configuration, not once per segment."""
+    return tuple(comp for comp in model.layout.classes if comp.sensor_error is not None
+                 and not (comp.skipped_at_neutral and comp.neutral
+                          and config.values_of(comp.name) == comp.neutral))
+
+
+def sensor_errors(model: Model, config: ModelConfig, signals: dict,
+                  components: tuple | None = None) -> dict[str, np.ndarray]:
     """What the components' sensor errors add to the readings [SI], summed per signal, from
-    the physical ``signals`` (see ``Component.sensor_error``); empty if none has one."""
+    the physical ``signals`` (see ``Component.sensor_error``); empty if none has one.
+    ``components``: :func:`sensing`'s answer for ``config``, where the caller has it."""
     out: dict[str, np.ndarray] = {}
-    for comp in model.layout.classes:
-        if comp.sensor_error is not None:
-            for sig, err in comp.sensor_error(config.values_of(comp.name), signals,
-                                              config.core).items():
-                out[sig] = out.get(sig, 0.0) + err
+    for comp in sensing(model, config) if components is None else components:
+        for sig, err in comp.sensor_error(config.values_of(comp.name), signals,
+                                          config.core).items():
+            out[sig] = out.get(sig, 0.0) + err
     return out
 
 
 def measured_states(model: Model, config: ModelConfig, t: np.ndarray, states: np.ndarray,
-                    command_v: np.ndarray, supply_pa: np.ndarray) -> np.ndarray:
+                    command_v: np.ndarray, supply_pa: np.ndarray,
+                    components: tuple | None = None) -> np.ndarray:
     """The states as the sensors show them: the components' sensor errors added to the
-    physical ``states`` (n, n_states) at times ``t``."""
+    physical ``states`` (n, n_states) at times ``t``. ``components``: as for
+    :func:`sensor_errors`."""
+    if components == ():
+        return states
     signals = {name: states[:, i] for i, name in enumerate(CORE_STATE_NAMES)}
     errors = sensor_errors(model, config, {**signals, 'command_v': command_v,
-                                           'supply_pa': supply_pa, 't_s': t})
+                                           'supply_pa': supply_pa, 't_s': t}, components)
     if not errors:
         return states
     out = states.copy()

@@ -10,7 +10,13 @@ from ..model import culprit
 from ..model.assembly import Model
 from ..model.circuits import predict_static
 from ..model.config import ModelConfig
-from ..model.simulate import DEFAULT_RTOL, delayed, measured_states, simulate_batch
+from ..model.simulate import (
+    DEFAULT_RTOL,
+    delayed,
+    measured_states,
+    sensing,
+    simulate_batch,
+)
 from .inputs import config_for, smoothed_signals, valve_inputs
 from .plans import Plan, open_loop
 from .start import stack_windows, start_states
@@ -83,12 +89,13 @@ def _predict(model, exp, configs, plan, rtol):
         rows = range(j * len(segs), (j + 1) * len(segs))
         X = np.full((len(exp.t), model.n_states), np.nan)
         if np.all(status[rows.start:rows.stop] == 0):
+            live = sensing(model, cfgs[j])
             for r, (a, b) in zip(rows, segs):
                 # the sensors read each segment's prediction on its own: a sensor's dynamics
                 # (a lag) never see the step from one segment's end to the next one's start
                 X[a:b] = measured_states(model, cfgs[j], exp.t[a:b],
                                          delayed(tw[:b - a], XB[r, :b - a], d_outs[j]),
-                                         us[j][a:b], pss[j][a:b])
+                                         us[j][a:b], pss[j][a:b], live)
         out.append({name: X[:, idx] for name, idx in STATE_SIGNALS.items()})
 
     def why(j: int) -> str:

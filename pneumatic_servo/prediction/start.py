@@ -8,7 +8,7 @@ from ..effects.layout import CORE_STATE_NAMES, OMEGA, P_A, P_B, THETA
 from ..experiment import Experiment
 from ..model.assembly import Model
 from ..model.config import ModelConfig
-from ..model.simulate import initial_state, sensor_errors, simulate_batch
+from ..model.simulate import initial_state, sensing, sensor_errors, simulate_batch
 
 #: [s] half-width of the window over which an unmeasured velocity is estimated from the angle
 VELOCITY_HALF_WINDOW_S = 5e-3
@@ -68,10 +68,11 @@ def physical_signals(model: Model, cfg: ModelConfig, signals: dict, command_v: n
     """``signals`` with the model's sensor errors taken out (to first order: each error is
     evaluated at the reading), so a segment starts from the physical state; ``t`` [s] the
     sample times (a sensor's dynamics need them)."""
-    if not any(c.sensor_error is not None for c in model.layout.classes):
+    live = sensing(model, cfg)
+    if not live:
         return signals
     errors = sensor_errors(model, cfg, {**signals, 'command_v': command_v,
-                                        'supply_pa': supply_pa, 't_s': t})
+                                        'supply_pa': supply_pa, 't_s': t}, live)
     return {**signals, **{sig: signals[sig] - err for sig, err in errors.items()
                           if sig in signals}}
 
