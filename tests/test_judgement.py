@@ -117,6 +117,15 @@ def test_floor_test_has_its_stated_false_alarm_rate():
     assert hits / trials == pytest.approx(level, abs=0.006)
 
 
+def test_a_floor_of_zero_gives_a_ratio_not_nan():
+    """A channel the model and every replica match exactly (an arm held at an end stop) has
+    a floor of zero: an exact record is no departure, any residual an infinite one."""
+    floor = Floor({'angle': np.zeros(16)}, np.zeros(16), units=100)
+    assert floor.test(0.0, 'angle').ratio == 0.0
+    assert floor.test(1e-6, 'angle').ratio == np.inf
+    assert floor.test(1e-6, 'angle').p_value < 0.01
+
+
 def test_floor_with_refits_keeps_its_false_alarm_rate():
     """What a refitted effect leaves is the replicas' mean square times the refit's own
     scatter. Against the floor with that scatter added (three refits), such a remainder departs

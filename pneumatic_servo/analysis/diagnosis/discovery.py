@@ -330,7 +330,7 @@ def screen_terms(base: Baseline, data: Data, n_eff: float, options: DiagnoseOpti
     S_fit = np.column_stack([S_fit, _slopes(model, host, keys[start:], steps[start:], r_fit,
                                             data.fit)])
     routes = _routes(lead, S_fit, blocks, costs, base_val, n_eff, options.max_terms)
-    # held out, only the columns some route adds (a third of them): one batch
+    # held out, only the columns some route adds (about a fifth of them): one batch
     added = sorted({j for cols, _ in routes.values() for j in cols[1:]})
     S_val = dict(zip(added, _slopes(model, host, [keys[j] for j in added],
                                     [steps[j] for j in added], r_val, data.screen_val).T))

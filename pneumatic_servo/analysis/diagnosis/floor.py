@@ -30,6 +30,7 @@ that has the fit's own scatter added (:meth:`Floor.with_refits`, :mod:`.refit`).
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field, replace
 
 import numpy as np
@@ -137,8 +138,12 @@ class Floor:
         r = len(logs)
         spread = np.sqrt(np.var(logs, ddof=1) + variance + 2.0 / max(self.units, 1))
         z = (np.log(max(mean_square, 1e-300)) - logs.mean()) / (spread * np.sqrt(1 + 1 / r))
-        return Departure(float(np.sqrt(mean_square) / self.rms(channel)),
-                         float(student.sf(z, r - 1)))
+        floor = self.rms(channel)
+        # a floor of exactly zero (the arm held at an end stop in every replica): no residual
+        # is no departure, any residual an infinite one
+        ratio = (np.sqrt(mean_square) / floor if floor > 0.0
+                 else 0.0 if mean_square == 0.0 else math.inf)
+        return Departure(float(ratio), float(student.sf(z, r - 1)))
 
     def with_refits(self, refits: dict[str, np.ndarray]) -> 'Floor':
         """This floor with the fit's own scatter added: ``refits`` maps each channel (and
