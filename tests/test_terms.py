@@ -85,8 +85,11 @@ def test_a_free_function_of_each_variable_is_offered_to_probe_a_dependence_never
     from pneumatic_servo.analysis.diagnosis.shape import shape_terms
     from pneumatic_servo.effects.terms import N_PROBE_KNOTS, PROBED, knot
     for equation in ('moment_balance', 'mass_balance_b', 'valve_input', 'measurement_p_a'):
+        blind = BY_EQUATION[equation].equation.blind_to
         for variable, *_ in PROBED:
-            assert len(probe_keys(equation, variable)) == N_PROBE_KNOTS, (equation, variable)
+            # none of a variable the equation is blind to (the command in a torque)
+            knots = 0 if variable in blind else N_PROBE_KNOTS
+            assert len(probe_keys(equation, variable)) == knots, (equation, variable)
         assert not any(t.probes and t.screened for t in BY_EQUATION[equation].equation.terms)
         assert not any('probe' in k for k in shape_terms(equation))
     assert not probe_keys('energy_balance_a', 'p_a')
@@ -102,8 +105,11 @@ def test_every_equation_offers_the_plain_terms_and_sensors_the_shafts_memory():
     plain = [t.name for t in TERMS if t.equations is None]
     for eq in EQUATIONS:
         names = [t.name for t in eq.terms]
-        if eq.generic:  # every plain term, in the vocabulary's order
-            assert [n for n in names if n in plain] == plain, eq.name
+        if eq.generic:  # every plain term it is not blind to, in the vocabulary's order
+            seen = [t.name for t in TERMS if t.equations is None
+                    and not set(t.depends_on) & set(eq.blind_to)]
+            assert [n for n in names if n in plain] == seen, eq.name
+            assert not any(set(t.depends_on) & set(eq.blind_to) for t in eq.terms), eq.name
         else:  # a temperature reading: the constant and its own terms only
             assert names[0] == 'constant' and not set(plain[1:]) & set(names), eq.name
             assert names[1:] == [t.name for t in TERMS if eq.name in (t.equations or ())]
@@ -119,6 +125,12 @@ def test_every_equation_offers_the_plain_terms_and_sensors_the_shafts_memory():
     assert 'motion_direction' not in [t.name for t in
                                       BY_EQUATION['moment_balance'].equation.terms]
     assert BY_EQUATION['valve_input'].states and not BY_EQUATION['moment_balance'].states
+    # a torque, and the angle and chamber pressure sensors, see no valve command; flows do
+    for name in ('moment_balance', 'measurement_angle', 'measurement_p_a', 'measurement_p_b'):
+        assert not {'command', 'sign_command', 'command_times_velocity'} & {
+            t.name for t in BY_EQUATION[name].equation.terms}, name
+    for name in ('mass_balance_a', 'valve_input', 'measurement_supply'):
+        assert 'command' in [t.name for t in BY_EQUATION[name].equation.terms], name
 
 
 def test_a_correction_is_said_in_the_words_its_leading_term_carries():
