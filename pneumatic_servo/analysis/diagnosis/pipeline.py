@@ -153,11 +153,13 @@ def diagnose(experiments: list[Experiment], config: ModelConfig | None = None,
     options = options or DiagnoseOptions()
     config = config or ModelConfig.paper()
     names = candidate_effects(config, effects)
-    # on a fresh machine a helper process compiles every second named effect that needs a
-    # composition of its own, and the host of the generic corrections, while this one
-    # compiles the shared host, fits the model as given and compiles the other effects
+    # on a fresh machine a helper process compiles the host of the generic corrections,
+    # which carries every term and takes longest (about as long as everything this one
+    # compiles before discovery needs it), while this one compiles the shared host, fits the
+    # model as given and compiles the named effects; without discovery, the helper takes
+    # every second named effect that needs a composition of its own
     own = [host_for(config, name) for name in names if not shareable(name)]
-    compile_in_background(own[1::2] + ([correction_host(config)] if options.discover else []))
+    compile_in_background([correction_host(config)] if options.discover else own[1::2])
     data, base, free = timed('prepare', prepare, experiments, config, free, options)
     trial = timed('floor', make_trial, data, base, free, options, len(names))
     base_preds = timed('where', predictions, trial.base.config, trial.data)
