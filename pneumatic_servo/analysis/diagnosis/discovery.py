@@ -129,12 +129,14 @@ def _slope_fit(r: np.ndarray, s: np.ndarray) -> float:
     return -float(s @ r) / ss if ss > 0 else 0.0
 
 
-def _distinct(S: np.ndarray, order: list[int], limit: float = 0.999) -> list[int]:
+def _distinct(gram: np.ndarray, order: list[int], limit: float = 0.999) -> list[int]:
     """``order`` without the columns that are (nearly) parallel to an earlier one: over
     these data the two terms are the same (a constant supply is a constant), and the
-    simpler one, first in the equation's terms, is kept."""
+    simpler one, first in the equation's terms, is kept. ``gram``: the sensitivities'
+    Gram matrix ``S.T @ S``, formed once for every call (one product per call took seconds
+    on a loaded machine)."""
     cols = sorted(order)
-    gram = S[:, cols].T @ S[:, cols]  # one product for every pair (a dot each took seconds)
+    gram = gram[np.ix_(cols, cols)]
     norms = np.sqrt(np.diag(gram))
     kept: list[int] = []
     for a in range(len(cols)):
@@ -158,10 +160,11 @@ def _leading_terms(model, host, keys, terms, r_fit, S_fit, data, blocks, per_equ
     Returns, per candidate column: (coefficient, fit residual, held-out residual).
     """
     cols = []
+    gram = S_fit.T @ S_fit
     for block in blocks:
         rss = {j: float(np.sum((r_fit + S_fit[:, j] * _slope_fit(r_fit, S_fit[:, j])) ** 2))
                for j in block if np.any(S_fit[:, j])}
-        best = _distinct(S_fit, sorted(rss, key=rss.get))[:per_equation]
+        best = _distinct(gram, sorted(rss, key=rss.get))[:per_equation]
         more = [j for i in best for j in _elaborations(i, block, terms) if j not in best]
         cols += best + list(dict.fromkeys(more))
     bounds = [(host.param(keys[j]).lower, host.param(keys[j]).upper) for j in cols]
@@ -224,19 +227,20 @@ def _first(lead, block, costs, base_val: float, n_eff: float) -> int | None:
     return min(j for j, b in bic.items() if b <= tie)
 
 
-def _route(first: int, lead, S_fit, block, costs, n_eff: float, max_terms: int
+def _route(first: int, lead, S_fit, gram, block, costs, n_eff: float, max_terms: int
            ) -> tuple[list[int], list[float]]:
     """Forward selection from the refined term ``first``: each step adds the column of
     ``block`` (and its least-squares coefficient, linear in the screening slopes) that best
     fits the fitted part's residual, each column counting as ``costs[column]`` parameters
     (:attr:`Term.cost`), so a window or a product is added only where it fits clearly
     better than a plain term. (columns, coefficients): chosen on the fitted part alone, so
-    that only the columns some route adds are simulated held out (:func:`_best_prefix`)."""
+    that only the columns some route adds are simulated held out (:func:`_best_prefix`).
+    ``gram``: ``S_fit.T @ S_fit``."""
     c0, r_fit, _ = lead[first]
     cols, coef = [first], [c0]
     for _ in range(max_terms - 1):
         # each candidate's least-squares step on the fit residual, all at once
-        cand = _distinct(S_fit, [j for j in block if j not in cols])
+        cand = _distinct(gram, [j for j in block if j not in cols])
         if not cand:
             break
         S = S_fit[:, cand]
@@ -273,15 +277,15 @@ def _routes(lead, S_fit, blocks, costs, base_val: float, n_eff: float, max_terms
     """Every route the selection of :func:`screen_terms` may judge, by (first column,
     columns): from each equation's leading term over all its columns and over its plain ones
     (cost 1), and from each of its other refined terms."""
-    routes = {}
+    routes, gram = {}, S_fit.T @ S_fit
     for block in blocks:
         plain = [j for j in block if costs[j] == 1]
         starts = [(j, block) for j in sorted(lead) if j in block]
         starts.append((_first(lead, plain, costs, base_val, n_eff), plain))
         for j, columns in starts:
             if j is not None:
-                routes[j, tuple(columns)] = _route(j, lead, S_fit, columns, costs, n_eff,
-                                                   max_terms)
+                routes[j, tuple(columns)] = _route(j, lead, S_fit, gram, columns, costs,
+                                                   n_eff, max_terms)
     return routes
 
 
