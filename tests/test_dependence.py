@@ -38,16 +38,26 @@ def _diagnosed(term: str, value: float, seed: int, **options):
                     options=DiagnoseOptions(**options))
 
 
-def test_a_proxy_of_the_speed_is_found_to_depend_on_the_speed():
-    name = BY_EQUATION['mass_balance_a'].name
-    record = replace(RECORD, seed=32, effects={name: {coefficient_name('velocity'): 1e-5}})
+def _given(record: Record, equation: str, term: str, start: float, named: dict = None):
+    """(trial of ``record``, the correction ``term`` of ``equation`` fitted through the
+    simulator from ``start``): on the model as given, or on it with the ``named`` effect
+    (name -> values) whose parameters are refitted with it."""
     options = DiagnoseOptions()
     data, base, free = prepare([make_record(record)], ModelConfig.paper(), (), options)
     trial = make_trial(data, base, free, options, 1)
+    for effect, values in (named or {}).items():
+        base = replace(base, config=base.config.with_effect(effect, values))
+        free = [f'{effect}.{k}' for k in values]
     host = correction_host(base.config)
-    key = f"{name}.{coefficient_name('command')}"
-    proxy = confirm(ScreenedEquation('mass_balance_a', [key], {key: 1e-6}, 0.0), host,
-                    Model(host), base, data, free, options)
+    key = f'{BY_EQUATION[equation].name}.{coefficient_name(term)}'
+    return trial, confirm(ScreenedEquation(equation, [key], {key: start}, 0.0), host,
+                          Model(host), base, data, free, options)
+
+
+def test_a_proxy_of_the_speed_is_found_to_depend_on_the_speed():
+    name = BY_EQUATION['mass_balance_a'].name
+    record = replace(RECORD, seed=32, effects={name: {coefficient_name('velocity'): 1e-5}})
+    trial, proxy = _given(record, 'mass_balance_a', 'command', 1e-6)
     assert depends_on(proxy.terms, proxy.leading) == ['command']  # before the test
     best = probe_dependence(trial, rank([proxy], trial)[0])
     said = [t for t in best.dependence if t.depends]
@@ -81,15 +91,8 @@ def test_a_correction_found_on_top_of_a_named_effect_is_tested_on_that_model():
     record = Record('closed_steps', 250.0, 6.0, integrator='rk4', seed=5, effects={
         'external_load_torque': {'load_torque_n_m': 0.3},
         BY_EQUATION['moment_balance'].name: {coefficient_name('sin_angle'): 0.15}})
-    options = DiagnoseOptions()
-    data, base, free = prepare([make_record(record)], ModelConfig.paper(), (), options)
-    trial = make_trial(data, base, free, options, 1)
-    named = base.config.with_effect('external_load_torque', {'load_torque_n_m': 0.3})
-    host = correction_host(named)
-    key = f"{BY_EQUATION['moment_balance'].name}.{coefficient_name('sin_angle')}"
-    on_top = confirm(ScreenedEquation('moment_balance', [key], {key: 0.1}, 0.0), host,
-                     Model(host), replace(base, config=named), data,
-                     ['external_load_torque.load_torque_n_m'], options)
+    trial, on_top = _given(record, 'moment_balance', 'sin_angle', 0.1,
+                           {'external_load_torque': {'load_torque_n_m': 0.3}})
     assert 'external_load_torque.load_torque_n_m' in on_top.base_params
     found = probe_dependence(trial, rank([on_top], trial)[0])
     assert found.dependence and found.depends_on[0] == 'angle'

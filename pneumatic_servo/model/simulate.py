@@ -12,6 +12,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..effects.base import switched
 from ..effects.layout import (
     BLOCKED,
     CIRCUITS,
@@ -109,12 +110,11 @@ def initial_state(model: Model, angle_rad: float = None, p_a_pa: float = None,
 
 def sensing(model: Model, config: ModelConfig) -> tuple:
     """The components of ``model`` whose sensor errors can add to the readings under
-    ``config``: each with a ``sensor_error``, but one at its neutral values that adds exactly
-    nothing there (``skipped_at_neutral``: a generic correction not in use). A prediction
-    asks once per configuration, not once per segment."""
+    ``config``: each with a ``sensor_error``, but a switched one at its neutral values,
+    where it adds exactly nothing (:func:`..effects.base.switched`: a generic correction
+    not in use). A prediction asks once per configuration, not once per segment."""
     return tuple(comp for comp in model.layout.classes if comp.sensor_error is not None
-                 and not (comp.skipped_at_neutral and comp.neutral
-                          and config.values_of(comp.name) == comp.neutral))
+                 and not (switched(comp) and config.values_of(comp.name) == comp.neutral))
 
 
 def sensor_errors(model: Model, config: ModelConfig, signals: dict,

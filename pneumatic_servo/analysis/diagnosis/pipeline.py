@@ -158,8 +158,8 @@ def diagnose(experiments: list[Experiment], config: ModelConfig | None = None,
     # compiles before discovery needs it), while this one compiles the shared host, fits the
     # model as given and compiles the named effects; without discovery, the helper takes
     # every second named effect that needs a composition of its own
-    own = [host_for(config, name) for name in names if not shareable(name)]
-    compile_in_background([correction_host(config)] if options.discover else own[1::2])
+    compile_in_background([correction_host(config)] if options.discover else
+                          [host_for(config, n) for n in names if not shareable(n)][1::2])
     data, base, free = timed('prepare', prepare, experiments, config, free, options)
     trial = timed('floor', make_trial, data, base, free, options, len(names))
     base_preds = timed('where', predictions, trial.base.config, trial.data)
