@@ -315,3 +315,18 @@ def test_a_correction_at_zero_is_skipped_and_changes_nothing():
     torque = with_values(host, ['correction_moment_balance.constant_coefficient'], [0.05])
     moved = simulate(model, t, command, config=torque).states
     assert np.abs(moved[:, 0] - plain[:, 0]).max() > 1e-4
+
+
+def test_a_sensors_own_terms_are_those_of_its_reading_alone():
+    """Discovery seeks a sensor's error first in its own reading's terms (its value, memory,
+    lag or rate, and constants); the balance equations have none."""
+    own = {eq.name: [t.name for t in eq.own] for eq in EQUATIONS}
+    assert {'constant', 'gauge_p_a', 'p_a', 'rate_p_a', 'lag_20ms_p_a'} <= set(
+        own['measurement_p_a'])
+    assert not {'p_b', 'pressure_difference', 'sqrt_pressure_difference', 'velocity'} & set(
+        own['measurement_p_a'])
+    assert {'angle', 'motion_direction', 'window_0'} <= set(own['measurement_angle'])
+    assert 'velocity' not in own['measurement_angle']
+    assert own['measurement_supply'] == ['constant', 'gauge_supply', 'supply']
+    assert all(not own[name] for name in ('moment_balance', 'mass_balance_a',
+                                          'mass_balance_b', 'valve_input'))

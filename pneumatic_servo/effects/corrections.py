@@ -72,11 +72,28 @@ class Equation:
     #: closed loop, in which the command follows every error, let it stand in for the
     #: effect's own variables and take the equation of a valve or chamber flow error)
     blind_to: tuple[str, ...] = ()
+    #: the measured signal whose sensor it corrects, where that is not ``signal`` (the
+    #: supply's reading feeds the model instead of being compared)
+    reads: str = ''
 
     @property
     def terms(self) -> tuple[Term, ...]:
         """The terms offered in this equation, in the order of its parameters."""
         return offered(self.name, self.signal is not None, self.generic, self.blind_to)
+
+    @property
+    def own(self) -> tuple[Term, ...]:
+        """The terms of a sensor's own reading alone (its value, its memory, lag or rate,
+        constants), empty where the equation corrects no sensor: a transmitter's error
+        follows what it measures (gain, offset, lag, a stuck bit), and a crosstalk from
+        another signal needs a wiring fault, so discovery takes one only where it explains
+        clearly more (in the open loop's chirp p_a and p_b mirror each other, and a p_a
+        reading's error fitted as well as a function of p_a - p_b)."""
+        signal = self.reads or self.signal
+        if not signal:
+            return ()
+        return tuple(t for t in self.terms
+                     if all(terms.BY_VARIABLE[v].signal in ('', signal) for v in t.depends_on))
 
     @property
     def memories(self) -> list:
@@ -109,7 +126,7 @@ EQUATIONS = (
     Equation('measurement_supply', 'Pa', 2e4, 'an error of the supply pressure sensor '
              '(the model is fed its reading)', stage='supply',
              statement='c[C_PS] -= term\n    c[C_PS_REG] -= term', order=10,
-             shown_as='mass_balance_a'),
+             shown_as='mass_balance_a', reads='supply_pa'),
     Equation('measurement_angle', 'rad', 0.05, 'an error of the angle sensor', 'angle_rad',
              blind_to=COMMAND),
     Equation('measurement_p_a', 'Pa', 2e4, 'an error of the chamber a pressure sensor',

@@ -98,6 +98,10 @@ class ScreenedEquation:
     #: motion, as a smaller piston torque; both are fitted through the simulator, and where
     #: they are not told apart both are said (:func:`alike`)
     richer: ScreenedEquation | None = None
+    #: the best set of a sensor's own terms (:attr:`.corrections.Equation.own`), where the
+    #: best set holds another variable: fitted through the simulator, the other leads only
+    #: where it explains clearly more
+    own: ScreenedEquation | None = None
 
 
 def _residuals(model, host, keys, values, parts) -> list[np.ndarray]:
@@ -146,7 +150,8 @@ def _distinct(gram: np.ndarray, order: list[int], limit: float = 0.999) -> list[
     return [j for j in order if j in chosen]
 
 
-def _leading_terms(model, host, keys, terms, r_fit, S_fit, data, blocks, per_equation: int):
+def _leading_terms(model, host, keys, terms, r_fit, S_fit, data, blocks, owns,
+                   per_equation: int):
     """The best single term of each equation, refined through the simulator.
 
     The screening slope is taken at a small step; an effect of plausible size
@@ -157,14 +162,18 @@ def _leading_terms(model, host, keys, terms, r_fit, S_fit, data, blocks, per_equ
     while they move by more than :data:`SETTLED`; the last estimate is evaluated on the
     fitted and the held-out parts (one batch per step, one more held out).
 
+    ``owns``: per block, its columns of a sensor's own terms, whose best is refined too.
+
     Returns, per candidate column: (coefficient, fit residual, held-out residual).
     """
     cols = []
     gram = S_fit.T @ S_fit
-    for block in blocks:
+    for block, own in zip(blocks, owns):
         rss = {j: float(np.sum((r_fit + S_fit[:, j] * _slope_fit(r_fit, S_fit[:, j])) ** 2))
                for j in block if np.any(S_fit[:, j])}
         best = _distinct(gram, sorted(rss, key=rss.get))[:per_equation]
+        if own and not set(best) & set(own):
+            best += sorted((j for j in own if j in rss), key=rss.get)[:1]
         more = [j for i in best for j in _elaborations(i, block, terms) if j not in best]
         cols += best + list(dict.fromkeys(more))
     bounds = [(host.param(keys[j]).lower, host.param(keys[j]).upper) for j in cols]
@@ -272,16 +281,18 @@ def _best_prefix(route, lead, S_val: dict, costs, base_val: float, n_eff: float)
     return best
 
 
-def _routes(lead, S_fit, blocks, costs, base_val: float, n_eff: float, max_terms: int
+def _routes(lead, S_fit, blocks, owns, costs, base_val: float, n_eff: float, max_terms: int
             ) -> dict:
     """Every route the selection of :func:`screen_terms` may judge, by (first column,
-    columns): from each equation's leading term over all its columns and over its plain ones
-    (cost 1), and from each of its other refined terms."""
+    columns): from each equation's leading term over all its columns, over its plain ones
+    (cost 1) and over a sensor's own (``owns``), and from each of its other refined
+    terms."""
     routes, gram = {}, S_fit.T @ S_fit
-    for block in blocks:
+    for block, own in zip(blocks, owns):
         plain = [j for j in block if costs[j] == 1]
         starts = [(j, block) for j in sorted(lead) if j in block]
-        starts.append((_first(lead, plain, costs, base_val, n_eff), plain))
+        starts += [(_first(lead, cols, costs, base_val, n_eff), cols) for cols in (plain, own)
+                   if cols]
         for j, columns in starts:
             if j is not None:
                 routes[j, tuple(columns)] = _route(j, lead, S_fit, gram, columns, costs,
@@ -316,9 +327,15 @@ def screen_terms(base: Baseline, data: Data, n_eff: float, options: DiagnoseOpti
     for eq in equations:
         blocks.append([])
         add(eq, [t for t in eq.terms if t.screened and not t.modulates], blocks[-1])
+    own_terms = [{t.name for t in eq.own} for eq in equations]
+
+    def owns():
+        """Per block, its columns of a sensor's own terms."""
+        return [[j for j in block if terms[j].name in own]
+                for block, own in zip(blocks, own_terms)]
     r_fit, S_fit = _sensitivities(model, host, keys, steps, data.fit)
     r_val = stack(residual_rows(model, data.screen_val, [host])[0])
-    lead = _leading_terms(model, host, keys, terms, r_fit, S_fit, data, blocks,
+    lead = _leading_terms(model, host, keys, terms, r_fit, S_fit, data, blocks, owns(),
                           LEADING_PER_EQUATION)
     base_val = float(r_val @ r_val)
     # the second batch: the modulations of the leading term of each of the equations the
@@ -333,13 +350,13 @@ def screen_terms(base: Baseline, data: Data, n_eff: float, options: DiagnoseOpti
                            if t.modulates == terms[firsts[i]].name], blocks[i])
     S_fit = np.column_stack([S_fit, _slopes(model, host, keys[start:], steps[start:], r_fit,
                                             data.fit)])
-    routes = _routes(lead, S_fit, blocks, costs, base_val, n_eff, options.max_terms)
+    routes = _routes(lead, S_fit, blocks, owns(), costs, base_val, n_eff, options.max_terms)
     # held out, only the columns some route adds (about a fifth of them): one batch
     added = sorted({j for cols, _ in routes.values() for j in cols[1:]})
     S_val = dict(zip(added, _slopes(model, host, [keys[j] for j in added],
                                     [steps[j] for j in added], r_val, data.screen_val).T))
     out = []
-    for eq, block in zip(equations, blocks):
+    for eq, block, own in zip(equations, blocks, owns()):
         def screened(path):
             """The path (columns, coefficients, held-out RSS, BIC) as a screened equation."""
             cols, coef, rss, bic = path
@@ -371,6 +388,8 @@ def screen_terms(base: Baseline, data: Data, n_eff: float, options: DiagnoseOpti
         other = min(others, key=lambda p: p[3]) if others else None
         if other is not None and set(other[0]) != set(path[0]):
             best = replace(best, other=screened(other))
+        if own and not set(path[0]) <= set(own):
+            best = replace(best, own=screened(select(own)))
         out.append(best)
     return sorted(out, key=lambda s: s.bic), host, model
 
@@ -436,5 +455,11 @@ def discover(base: Baseline, data: Data, free: list[str], n_eff: float,
                                                and not clearly_better(best, other)):
                 best = other
                 found.append(other)
+        if s.own is not None and clearly_better is not None:
+            own = confirm(s.own, host, model, base, data, free, options)
+            # a sensor's error is its own reading's unless another explains clearly more
+            if not clearly_better(best, own):
+                best = own
+                found.append(own)
         out.append(alike(found, base, n_eff, best))
     return out
