@@ -209,3 +209,29 @@ def test_clean_open_loop_record_is_consistent():
     result = diagnose(exps)
     assert result.status == 'consistent', result.reason
     assert result.verdict == 'none' and result.discovered == []
+
+
+def test_a_crosstalk_into_a_sensor_does_not_take_the_place_of_a_flow_error():
+    """A sensor's error is sought first in its own reading's terms (``Equation.own``). The
+    closed-loop record of held-out set 7's deceleration cam valve (a throttle on chamber
+    a's outflow over part of the stroke; used here after that set's one run) was read,
+    before, as the supply reading's error following |command|: in closed loop the command
+    follows every error, and its crosstalk into the supply transmitter explained about as
+    much as a flow out of chamber a that follows it. The supply's own terms are preferred,
+    and the truth's equation leads."""
+    import sys
+
+    from pneumatic_servo.effects.corrections import BY_EQUATION
+    from pneumatic_servo.synth.varied import Record, make_record
+    sys.path.insert(0, str(ROOT / 'benchmarks'))
+    from held_out_set_7 import DecelerationCamValveA as Cam
+    with registry.registered(Cam):
+        record = make_record(Record('closed_steps', 500.0, 10.0, integrator='rk4', seed=7,
+                                    effects={Cam.name: Cam.defaults()}))
+    result = diagnose([record])
+    assert result.status == 'unexplained', result.reason
+    assert result.discovered[0].equation == 'mass_balance_a', [
+        (d.equation, d.terms) for d in result.discovered]
+    own = {t.name for t in BY_EQUATION['measurement_supply'].equation.own}
+    supply = [d for d in result.discovered if d.equation == 'measurement_supply']
+    assert all(set(d.terms) <= own for d in supply), [d.terms for d in supply]

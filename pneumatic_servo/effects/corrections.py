@@ -87,8 +87,8 @@ class Equation:
         constants), empty where the equation corrects no sensor: a transmitter's error
         follows what it measures (gain, offset, lag, a stuck bit), and a crosstalk from
         another signal needs a wiring fault, so discovery takes one only where it explains
-        clearly more (in the open loop's chirp p_a and p_b mirror each other, and a p_a
-        reading's error fitted as well as a function of p_a - p_b)."""
+        clearly more (in closed loop the command follows every error: a crosstalk of it into
+        the supply reading stood in for a valve's flow error into chamber a)."""
         signal = self.reads or self.signal
         if not signal:
             return ()
