@@ -45,7 +45,8 @@ from .hosts import shared_host
 from .interpret import interpret
 from .options import DiagnoseOptions
 from .readings import alike, angle_span_deg, equivalent_lag_ms, simplest_best, term_spread
-from .scoring import BIC_TIE, information_criteria, relative_fall, score_many
+from .scoring import information_criteria, relative_fall, score_many
+from .selection import best_prefix, distinct, first_term, routes
 
 #: sensitivity step of a coefficient, as a share of its plausible size: large enough to step
 #: over the roughness of stick-slip
@@ -133,23 +134,6 @@ def _slope_fit(r: np.ndarray, s: np.ndarray) -> float:
     return -float(s @ r) / ss if ss > 0 else 0.0
 
 
-def _distinct(gram: np.ndarray, order: list[int], limit: float = 0.999) -> list[int]:
-    """``order`` without the columns that are (nearly) parallel to an earlier one: over
-    these data the two terms are the same (a constant supply is a constant), and the
-    simpler one, first in the equation's terms, is kept. ``gram``: the sensitivities'
-    Gram matrix ``S.T @ S``, formed once for every call (one product per call took seconds
-    on a loaded machine)."""
-    cols = sorted(order)
-    gram = gram[np.ix_(cols, cols)]
-    norms = np.sqrt(np.diag(gram))
-    kept: list[int] = []
-    for a in range(len(cols)):
-        if norms[a] > 0 and np.all(np.abs(gram[a, kept]) < limit * norms[kept] * norms[a]):
-            kept.append(a)
-    chosen = {cols[a] for a in kept}
-    return [j for j in order if j in chosen]
-
-
 def _leading_terms(model, host, keys, terms, r_fit, S_fit, data, blocks, owns,
                    per_equation: int):
     """The best single term of each equation, refined through the simulator.
@@ -171,7 +155,7 @@ def _leading_terms(model, host, keys, terms, r_fit, S_fit, data, blocks, owns,
     for block, own in zip(blocks, owns):
         rss = {j: float(np.sum((r_fit + S_fit[:, j] * _slope_fit(r_fit, S_fit[:, j])) ** 2))
                for j in block if np.any(S_fit[:, j])}
-        best = _distinct(gram, sorted(rss, key=rss.get))[:per_equation]
+        best = distinct(gram, sorted(rss, key=rss.get))[:per_equation]
         if own and not set(best) & set(own):
             best += sorted((j for j in own if j in rss), key=rss.get)[:1]
         more = [j for i in best for j in _elaborations(i, block, terms) if j not in best]
@@ -224,82 +208,6 @@ def _secant(c, r, c0, r0, lower, upper) -> float:
     return float(np.clip(c + _slope_fit(r, (r - r0) / (c - c0)), lower, upper))
 
 
-def _first(lead, block, costs, base_val: float, n_eff: float) -> int | None:
-    """The leading refined term of ``block``, or None: the simplest (first in the vocabulary)
-    whose held-out BIC is within :data:`BIC_TIE` of the best (closer than that, the data do
-    not tell them apart)."""
-    bic = {j: information_criteria(base_val, float(lead[j][2] @ lead[j][2]), costs[j],
-                                   n_eff)[1] for j in lead if j in block}
-    if not bic:
-        return None
-    tie = min(bic.values()) + BIC_TIE
-    return min(j for j, b in bic.items() if b <= tie)
-
-
-def _route(first: int, lead, S_fit, gram, block, costs, n_eff: float, max_terms: int
-           ) -> tuple[list[int], list[float]]:
-    """Forward selection from the refined term ``first``: each step adds the column of
-    ``block`` (and its least-squares coefficient, linear in the screening slopes) that best
-    fits the fitted part's residual, each column counting as ``costs[column]`` parameters
-    (:attr:`Term.cost`), so a window or a product is added only where it fits clearly
-    better than a plain term. (columns, coefficients): chosen on the fitted part alone, so
-    that only the columns some route adds are simulated held out (:func:`_best_prefix`).
-    ``gram``: ``S_fit.T @ S_fit``."""
-    c0, r_fit, _ = lead[first]
-    cols, coef = [first], [c0]
-    for _ in range(max_terms - 1):
-        # each candidate's least-squares step on the fit residual, all at once
-        cand = _distinct(gram, [j for j in block if j not in cols])
-        if not cand:
-            break
-        S = S_fit[:, cand]
-        steps = -(S.T @ r_fit) / np.einsum('ij,ij->j', S, S)  # no zero column is distinct
-        crit = (n_eff * np.log(np.maximum(np.sum((r_fit[:, None] + S * steps) ** 2, axis=0),
-                                          1e-300))
-                + np.array([costs[j] for j in cand]) * math.log(n_eff))
-        best_k = int(np.argmin(crit))  # the first of a tie: the simplest
-        j, d = cand[best_k], float(steps[best_k])
-        cols, coef = cols + [j], coef + [d]
-        r_fit = r_fit + S_fit[:, j] * d
-    return cols, coef
-
-
-def _best_prefix(route, lead, S_val: dict, costs, base_val: float, n_eff: float):
-    """The prefix of ``route`` (:func:`_route`) with the best held-out BIC: (columns,
-    coefficients, held-out RSS, BIC). ``S_val``: held-out sensitivity of each added column."""
-    cols, coef = route
-    r_val = lead[cols[0]][2]
-    best = None
-    for k, (j, d) in enumerate(zip(cols, coef)):
-        if k:
-            r_val = r_val + S_val[j] * d
-        rss = float(r_val @ r_val)
-        bic = information_criteria(base_val, rss, sum(costs[i] for i in cols[:k + 1]),
-                                   n_eff)[1]
-        if best is None or bic < best[3]:
-            best = (cols[:k + 1], np.array(coef[:k + 1]), rss, bic)
-    return best
-
-
-def _routes(lead, S_fit, blocks, owns, costs, base_val: float, n_eff: float, max_terms: int
-            ) -> dict:
-    """Every route the selection of :func:`screen_terms` may judge, by (first column,
-    columns): from each equation's leading term over all its columns, over its plain ones
-    (cost 1) and over a sensor's own (``owns``), and from each of its other refined
-    terms."""
-    routes, gram = {}, S_fit.T @ S_fit
-    for block, own in zip(blocks, owns):
-        plain = [j for j in block if costs[j] == 1]
-        starts = [(j, block) for j in sorted(lead) if j in block]
-        starts += [(_first(lead, cols, costs, base_val, n_eff), cols) for cols in (plain, own)
-                   if cols]
-        for j, columns in starts:
-            if j is not None:
-                routes[j, tuple(columns)] = _route(j, lead, S_fit, gram, columns, costs,
-                                                   n_eff, max_terms)
-    return routes
-
-
 def seen_equations(data: Data) -> list:
     """The equations the records can tell apart: those whose needed signals (a chamber's
     temperature for its energy balance) every time series of ``data`` holds."""
@@ -341,7 +249,8 @@ def screen_terms(base: Baseline, data: Data, n_eff: float, options: DiagnoseOpti
     # the second batch: the modulations of the leading term of each of the equations the
     # first ranks best (what its size varies with: a flow force on the spool is the
     # command's, growing with the pressure drop), linear in their screening slopes
-    firsts = {i: _first(lead, block, costs, base_val, n_eff) for i, block in enumerate(blocks)}
+    firsts = {i: first_term(lead, block, costs, base_val, n_eff)
+              for i, block in enumerate(blocks)}
     ranked = sorted((i for i in firsts if firsts[i] is not None), key=lambda i: float(
         lead[firsts[i]][2] @ lead[firsts[i]][2]))[:options.discovery_fits]
     start = len(keys)
@@ -350,9 +259,9 @@ def screen_terms(base: Baseline, data: Data, n_eff: float, options: DiagnoseOpti
                            if t.modulates == terms[firsts[i]].name], blocks[i])
     S_fit = np.column_stack([S_fit, _slopes(model, host, keys[start:], steps[start:], r_fit,
                                             data.fit)])
-    routes = _routes(lead, S_fit, blocks, owns(), costs, base_val, n_eff, options.max_terms)
+    routed = routes(lead, S_fit, blocks, owns(), costs, base_val, n_eff, options.max_terms)
     # held out, only the columns some route adds (about a fifth of them): one batch
-    added = sorted({j for cols, _ in routes.values() for j in cols[1:]})
+    added = sorted({j for cols, _ in routed.values() for j in cols[1:]})
     S_val = dict(zip(added, _slopes(model, host, [keys[j] for j in added],
                                     [steps[j] for j in added], r_val, data.screen_val).T))
     out = []
@@ -368,9 +277,9 @@ def screen_terms(base: Baseline, data: Data, n_eff: float, options: DiagnoseOpti
         def select(columns):
             """The best prefix of the route from the leading term of ``columns``, or an
             empty path if they hold none."""
-            first = _first(lead, columns, costs, base_val, n_eff)
-            return ([], np.zeros(0), base_val, 0.0) if first is None else _best_prefix(
-                routes[first, tuple(columns)], lead, S_val, costs, base_val, n_eff)
+            first = first_term(lead, columns, costs, base_val, n_eff)
+            return ([], np.zeros(0), base_val, 0.0) if first is None else best_prefix(
+                routed[first, tuple(columns)], lead, S_val, costs, base_val, n_eff)
         path = select(block)
         best = screened(path)
         if best is None:
@@ -383,7 +292,7 @@ def screen_terms(base: Baseline, data: Data, n_eff: float, options: DiagnoseOpti
             best = replace(best, richer=screened(_richer(lead, path[0][0], block, terms,
                                                          costs, base_val, n_eff)))
         # the best route from another leading term, where it differs
-        others = [_best_prefix(routes[j, tuple(block)], lead, S_val, costs, base_val, n_eff)
+        others = [best_prefix(routed[j, tuple(block)], lead, S_val, costs, base_val, n_eff)
                   for j in sorted(lead) if j in block and j != path[0][0]]
         other = min(others, key=lambda p: p[3]) if others else None
         if other is not None and set(other[0]) != set(path[0]):
