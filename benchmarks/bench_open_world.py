@@ -10,7 +10,9 @@ size vary, its modulations, and those the test variable by variable adds, each p
 ``+variable`` where it is added and ``-variable`` where tried and not) and the right closed
 form (see ``open_world_set``); whether the right dependence is said at all: led, or among
 the readings said to fit as well (``fits_as_well``), which the records cannot tell apart;
-and whether it was right before the test variable by variable (the last mark).
+and whether it was right before the test variable by variable (the last mark). Where no
+correction earns its place the tool claims no equation ("not in this vocabulary"); the
+summary counts the equations claimed, and how many of them are wrong.
 Then the hit rates beside the target (80 % for equation and dependence) and the count of
 confident wrong names (target 0), with the machine's load.
 
@@ -107,6 +109,7 @@ def _closed_form_right(cls, lead: str, result) -> bool | None:
 
 def judge(cls, result) -> dict:
     """What the diagnosis said, and whether it is right (see module doc)."""
+    from pneumatic_servo.analysis.diagnosis.criteria import earns_place
     from pneumatic_servo.analysis.diagnosis.interpret import depends_on
     from pneumatic_servo.effects.terms import BY_NAME
     # a name stated as (part of) the answer: 'explained', or 'partly_explained' with a named
@@ -128,7 +131,10 @@ def judge(cls, result) -> dict:
     closed = _closed_form_right(cls, lead, result)
     said = [set(BY_NAME[t].depends_on) for t in (lead, *best.fits_as_well)]
     untested = set(depends_on(best.terms, lead))  # before the test, variable by variable
+    # where no correction earns its place the tool says the physics is not in its
+    # vocabulary and claims no equation: the best try is judged all the same
     return {**out, 'equation': best.equation, 'leading': lead, 'terms': best.terms,
+            'claimed': earns_place(best, result.options),
             'interpretation': best.interpretation, 'right_equation': right_eq,
             'right_dependence': right_eq and variables in cls.depends,
             'right_dependence_untested': right_eq and untested in cls.depends,
@@ -163,6 +169,9 @@ def summary(rows: list[dict]) -> dict:
     print(f'  confident wrong names: {wrong} (target 0)'
           + (f'; on {beaten.count(False)} of them the truth itself does not beat the name '
              'clearly' if beaten else ''))
+    claims = [r for r in rows if r.get('claimed')]
+    print(f'  equations claimed (a correction earns its place): {len(claims)}, of them wrong: '
+          f'{sum(not r["right_equation"] for r in claims)}')
     ran = [r['dependence_seconds'] for r in rows if r.get('dependence_seconds')]
     if ran:
         print(f'  the test variable by variable ran on {len(ran)} records: '
