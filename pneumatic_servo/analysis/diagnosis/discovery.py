@@ -22,7 +22,11 @@ residuals and criteria as the named effects:
 2. **Confirm**: the best few equations are fitted in full (nonlinear, through
    the simulator, with the bases and effects that the named candidates refit)
    and scored on the held-out data; the result is a :class:`Discovered`
-   candidate that the ranking treats like a named one.
+   candidate that the ranking treats like a named one. In a sensor's equation
+   the set of its own reading's terms is confirmed too, and a set of another
+   signal leads only where it explains clearly more.
+
+The forward selection itself, linear in the sensitivities, is :mod:`.selection`.
 """
 from __future__ import annotations
 
