@@ -214,7 +214,7 @@ def test_clean_open_loop_record_is_consistent():
 def test_a_crosstalk_into_a_sensor_does_not_take_the_place_of_a_flow_error():
     """A sensor's error is sought first in its own reading's terms (``Equation.own``). The
     closed-loop record of held-out set 7's deceleration cam valve (a throttle on chamber
-    a's outflow over part of the stroke; used here after that set's one run) was read,
+    a's outflow over part of the stroke; used here after that set was measured) was read,
     before, as the supply reading's error following |command|: in closed loop the command
     follows every error, and its crosstalk into the supply transmitter explained about as
     much as a flow out of chamber a that follows it. The supply's own terms are preferred,
