@@ -263,13 +263,14 @@ def screen_terms(base: Baseline, data: Data, n_eff: float, options: DiagnoseOpti
                            if t.modulates == terms[firsts[i]].name], blocks[i])
     S_fit = np.column_stack([S_fit, _slopes(model, host, keys[start:], steps[start:], r_fit,
                                             data.fit)])
-    routed = routes(lead, S_fit, blocks, owns(), costs, base_val, n_eff, options.max_terms)
+    owned = owns()  # with the modulations just added
+    routed = routes(lead, S_fit, blocks, owned, costs, base_val, n_eff, options.max_terms)
     # held out, only the columns some route adds (about a fifth of them): one batch
     added = sorted({j for cols, _ in routed.values() for j in cols[1:]})
     S_val = dict(zip(added, _slopes(model, host, [keys[j] for j in added],
                                     [steps[j] for j in added], r_val, data.screen_val).T))
     out = []
-    for eq, block, own in zip(equations, blocks, owns()):
+    for eq, block, own in zip(equations, blocks, owned):
         def screened(path):
             """The path (columns, coefficients, held-out RSS, BIC) as a screened equation."""
             cols, coef, rss, bic = path

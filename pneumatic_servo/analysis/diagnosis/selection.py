@@ -87,17 +87,17 @@ def best_prefix(path, lead, S_val: dict, costs, base_val: float, n_eff: float):
 
 
 def routes(lead, S_fit, blocks, owns, costs, base_val: float, n_eff: float, max_terms: int
-            ) -> dict:
-    """Every route the selection of :func:`.discovery.screen_terms` may judge, by (first column,
-    columns): from each equation's leading term over all its columns, over its plain ones
-    (cost 1) and over a sensor's own (``owns``), and from each of its other refined
+           ) -> dict:
+    """Every route the selection of :func:`.discovery.screen_terms` may judge, by (first
+    column, columns): from each equation's leading term over all its columns, over its plain
+    ones (cost 1) and over a sensor's own (``owns``), and from each of its other refined
     terms."""
     out, gram = {}, S_fit.T @ S_fit
     for block, own in zip(blocks, owns):
         plain = [j for j in block if costs[j] == 1]
         starts = [(j, block) for j in sorted(lead) if j in block]
-        starts += [(first_term(lead, cols, costs, base_val, n_eff), cols) for cols in (plain, own)
-                   if cols]
+        starts += [(first_term(lead, cols, costs, base_val, n_eff), cols)
+                   for cols in (plain, own) if cols]
         for j, columns in starts:
             if j is not None:
                 out[j, tuple(columns)] = route(j, lead, S_fit, gram, columns, costs, n_eff,
