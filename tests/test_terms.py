@@ -101,6 +101,42 @@ def test_a_free_function_of_each_variable_is_offered_to_probe_a_dependence_never
     assert knot(1.0, 0.0, 2.0, N_PROBE_KNOTS // 2) == 1.0  # the middle knot at mid-span
 
 
+def test_a_free_functions_span_is_a_fixed_parameter_of_its_correction(hosts):
+    """The knots of a free function span what the correction's span parameters say (the
+    dependence test sets them to what the record holds), in the compiled hook and over a
+    sensor's arrays alike; a span alone switches nothing on."""
+    from pneumatic_servo.effects.terms import PROBE_SPANS, probe_spans
+    cfg, model = hosts
+    cls = BY_EQUATION['mass_balance_a']
+    low, high = (f'{cls.name}.{p.name}' for p in PROBE_SPANS['p_a'])
+    spanned = with_values(cfg, [low, high], [4.0e5, 4.4e5])  # p_a = 4.2e5 at its middle
+    _, end = model.layout.param_slices[model.layout.classes.index(cls)]
+    assert model.param_vector(spanned)[end - 1] == 0.0  # the switch
+    x = initial_state(model, command_v=COMMAND_V, supply_pa=SUPPLY_PA, config=cfg, **STATE)
+    key = f'{cls.name}.{coefficient_name("p_a_probe_2")}'
+    added = []
+    for config in (cfg, spanned):
+        zero, one = (model.evaluate(x, COMMAND_V, SUPPLY_PA, params=model.param_vector(
+            with_values(config, [key], [c])))[0][C_MA] for c in (0.0, 1e-5))
+        added.append((one - zero) / 1e-5)
+    # over atmosphere to the supply the middle knot is 0.88 at 4.2e5 Pa; over the span, 1
+    assert added[0] == pytest.approx(1.0 - abs(4 * (4.2e5 - 101325.0) / 6e5 - 2))
+    assert added[1] == pytest.approx(1.0)
+    sensor = BY_EQUATION['measurement_p_a']
+    values = {**sensor.defaults(), 'p_a_probe_low_pa': 4.0e5, 'p_a_probe_high_pa': 4.4e5,
+              coefficient_name('p_a_probe_2'): 1.0}
+    p_a = np.array([4.0e5, 4.1e5, 4.2e5, 4.4e5, 5.0e5])
+    got = sensor.sensor_error(values, {'p_a_pa': p_a}, cfg.core)['p_a_pa']
+    assert np.allclose(got, [0.0, 0.0, 1.0, 0.0, 0.0])
+    # the spans of a record: from its least to its largest value of each variable
+    spans = probe_spans([{'p_a_pa': p_a, 'command_v': np.array([4.5, 5.5, 6.0])}], cfg.core)
+    null = cfg.core['valve_null_voltage_v']
+    assert (spans['p_a_probe_low_pa'], spans['p_a_probe_high_pa']) == (4.0e5, 5.0e5)
+    assert spans['command_probe_low_v'] == pytest.approx(4.5 - null)
+    assert spans['command_probe_high_v'] == pytest.approx(6.0 - null)
+    assert 'angle_probe_low_rad' not in spans  # the record holds no angle
+
+
 def test_every_equation_offers_the_plain_terms_and_sensors_the_shafts_memory():
     plain = [t.name for t in TERMS if t.equations is None]
     for eq in EQUATIONS:

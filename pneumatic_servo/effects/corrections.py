@@ -160,7 +160,13 @@ def _params(eq: Equation) -> tuple[Param, ...]:
         out.append(Param(coefficient_name(t.name), unit, 0.0, -10.0 * size, 10.0 * size,
                          f'{eq.description} per unit of {t.words}', fit=False,
                          plausible=(-size, size)))
-    return tuple(out)
+    return tuple(out) + fixed_params(eq.terms)
+
+
+def fixed_params(used) -> tuple[Param, ...]:
+    """The fixed parameters ``used`` terms read (the spans of free functions), after the
+    coefficients in a correction's parameters and in the order of :data:`.terms.VARIABLES`."""
+    return tuple(v.param for v in terms.variables_of(used) if v.param is not None)
 
 
 # --- the generated source: one function per equation, from the terms' expressions -------
@@ -185,16 +191,19 @@ def hook_source(eq: Equation, used: list[Term], name: str = '_correction',
     carry every term of the vocabulary, and a screening simulation sets one of them;
     emitted files carry only the terms in use.
     """
-    index = {v.name: f's + {i}' for i, v in enumerate(memories(used))}  # of the states
+    states = {v.name: f's + {i}' for i, v in enumerate(memories(used))}
+    fixed = fixed_params(used)  # after the coefficients, before the switch
+    index = {**{v: f'x[{i}]' for v, i in states.items()},
+             **{q.name: f'p[{len(used) + i}]' for i, q in enumerate(fixed)}}
     lines = [f'def {name}(t, x, s, p, P, c, dx):',
              f'    """Add the correction: {eq.description} [{eq.unit}]."""',
-             *(f'    {v.name} = ' + (v.compiled_at(f'x[{index[v.name]}]') if v.name in index
+             *(f'    {v.name} = ' + (v.compiled_at(index[v.name]) if v.name in index
                                       else v.compiled) for v in terms.variables_of(used))]
     if skip_zero:
-        # p[len(used)] is the hook's switch (1.0 while a coefficient is not zero:
-        # ``.base.switched``); a hook with a memory runs always, to move its memory
+        # p[len(used) + len(fixed)] is the hook's switch (1.0 while a coefficient is not
+        # zero: ``.base.switched``); a hook with a memory runs always, to move its memory
         plain = [(i, t) for i, t in enumerate(used) if not t.modulates]
-        lines += ['    term = 0.0', f'    if p[{len(used)}] != 0.0:',
+        lines += ['    term = 0.0', f'    if p[{len(used) + len(fixed)}] != 0.0:',
                   *(f'        if p[{i}] != 0.0:\n            term += p[{i}] * '
                     f'{t.expression}' for i, t in plain),
                   *('    ' + line.replace('\n', '\n    ') for line in _modulations(used))]
@@ -202,7 +211,7 @@ def hook_source(eq: Equation, used: list[Term], name: str = '_correction',
         lines.append('    term = ' + (' + '.join(f'p[{i}] * {t.expression}'
                                                 for i, t in enumerate(used)) or '0.0'))
     lines += [f'    dx[{i}] = {terms.BY_VARIABLE[v].follows.format(m=f"x[{i}]")}'
-              for v, i in index.items()]
+              for v, i in states.items()]
     lines.append(f'    {eq.statement}')
     return '\n'.join(lines) + '\n'
 
@@ -282,7 +291,7 @@ def _sensor(eq: Equation):
         if not any(map(values.__getitem__, keys)):
             return {}
         on = [(t, values[k]) for t, k in used if values[k] != 0.0]
-        return {eq.signal: term_values([t for t, _ in on], signals, core)
+        return {eq.signal: term_values([t for t, _ in on], signals, core, values)
                 @ np.array([c for _, c in on])}
     return sensor_error
 
@@ -300,7 +309,7 @@ class Correction(Component):
     @classmethod
     def refit_keys(cls, values: dict) -> list[str]:
         """Only the terms in use are refitted when the model is diagnosed again."""
-        return [k for k, v in values.items() if v != 0.0]
+        return [k for k, v in values.items() if k in cls.neutral and v != 0.0]
 
     @classmethod
     def initial_state(cls, values, command_v, supply_pa, core):
@@ -311,7 +320,8 @@ class Correction(Component):
 def _correction_class(eq: Equation, hooks: dict) -> type[Component]:
     params = _params(eq)
     attrs = {'name': f'correction_{eq.name}', 'equation': eq, 'params': params,
-             'neutral': {p.name: 0.0 for p in params}, 'acts_on': eq.acts_on,
+             'neutral': {p.name: 0.0 for p in params if p.name.endswith('_coefficient')},
+             'acts_on': eq.acts_on,
              'circuits': eq.circuits, 'order': eq.order,
              'states': tuple(v.memory for v in eq.memories),
              '__doc__': f'Generic correction: {eq.description} [{eq.unit}], a linear '

@@ -26,7 +26,8 @@ declared twice. The blocks:
 The command's memory is a state of the correction (an ODE that follows the
 command outside its play band, declared on its variable: :attr:`Variable.memory`); the
 shaft's is evaluated over the record, so
-it is offered to the sensor equations only.
+it is offered to the sensor equations only. The variables, and the constants of the
+operators over them, are in :mod:`.variables`.
 """
 from __future__ import annotations
 
@@ -37,7 +38,6 @@ from functools import cached_property
 import numpy as np
 
 from . import term_words as w
-from .base import State
 from .bases import (  # noqa: F401 - the expressions call them; emitted files import them here
     COMMAND_MEMORY_S,
     N_KNOTS,
@@ -51,88 +51,25 @@ from .bases import (  # noqa: F401 - the expressions call them; emitted files im
     window,
 )
 from .operators import direction, lag, rate  # noqa: F401 - the expressions call them
+from .variables import (  # noqa: F401 - emitted files and the package read them here
+    BY_VARIABLE,
+    COMMAND_PLAY_V,
+    LAGS_S,
+    MOTION_PLAY_RAD,
+    PROBE_SPANS,
+    PROBE_SPEED_RAD_S,
+    PROBED,
+    READINGS,
+    VARIABLES,
+    Variable,
+    array_namespace,
+    probe_spans,
+)
 
 #: [rad/s] and [V]: widths over which the direction of motion and the side of the valve
 #: centre change sign (tanh), so that a correction never makes the equations discontinuous
 SIGN_VELOCITY_WIDTH = 0.01
 SIGN_COMMAND_WIDTH = 0.02
-#: [V] width of the play whose output gives the direction the command last moved in
-COMMAND_PLAY_V = 0.05
-#: [rad] width of the play whose output gives the direction the shaft last moved in
-MOTION_PLAY_RAD = 0.004
-#: [rad/s] the shaft speeds a free function of the speed spans (knots at 0 and +-half of it):
-#: the records' step and chirp moves stay within it, and beyond it the end knots hold
-PROBE_SPEED_RAD_S = 4.0
-#: [s] time constants of the first-order lags a reading is offered through: a pressure
-#: transmitter on a short line and on a long thin one. A coefficient c on a lag of tau is,
-#: to first order, a lag of c tau; a lag as fast as the record's steps is far from its
-#: first-order rate there, and such a term writes it. (Not the gas temperatures: a
-#: thermocouple's 60 ms lag on a blocked record fitted as 114 ms, each window starting
-#: from the lagged reading; their rate reads it right, if it explains less)
-LAGS_S = {'p_a': (0.005, 0.02), 'p_b': (0.005, 0.02)}
-#: the signal each lagged reading is of, a typical rate of change [unit/s] and the unit
-_READINGS = {'p_a': ('p_a_pa', 2e6, 'Pa'), 'p_b': ('p_b_pa', 2e6, 'Pa')}
-
-
-# --- variables --------------------------------------------------------------------------
-@dataclass(frozen=True)
-class Variable:
-    """A name the expressions use: how a compiled hook reads it (None: not available
-    there), and how an emitted sensor error reads it from ``signals`` and ``core``."""
-
-    name: str
-    compiled: str | None
-    array: str
-    #: the signal it comes from; where a record lacks it, the atmosphere (a pressure), the
-    #: room (a temperature) or 0
-    signal: str = ''
-    atmospheric: bool = False
-    room: bool = False
-    #: [s] the time constant of the first-order lag its signal is read through (None: none)
-    lag_s: float | None = None
-    #: a memory of the valve command, a state of the correction that uses it: what the
-    #: state is (:class:`.base.State`) and the rate [V/s] at which it follows the command,
-    #: an expression of ``{m}`` (the state's value) like :attr:`compiled`; the state starts
-    #: at the command
-    memory: 'State | None' = None
-    follows: str = ''
-
-    def compiled_at(self, state: str) -> str | None:
-        """Its compiled expression with its memory held in ``state`` (``x[s + i]``)."""
-        return None if self.compiled is None else self.compiled.format(m=state)
-
-
-VARIABLES = (
-    Variable('angle', 'x[THETA]', "signals['angle_rad']", 'angle_rad'),
-    Variable('velocity', 'x[OMEGA]', "signals['velocity_rad_s']", 'velocity_rad_s'),
-    Variable('p_a', 'x[P_A]', "signals['p_a_pa']", 'p_a_pa', True),
-    Variable('p_b', 'x[P_B]', "signals['p_b_pa']", 'p_b_pa', True),
-    Variable('p_atm', 'c[C_PE]', "core['atmospheric_pressure_pa']"),
-    Variable('command', '(c[C_U] - P[K_NULL])',
-             "signals['command_v'] - core['valve_null_voltage_v']", 'command_v'),
-    Variable('supply', 'c[C_PS]', "signals['supply_pa']", 'supply_pa', True),
-    Variable('stroke', 'P[K_STROKE]', "core['stroke_rad']"),
-    Variable('command_direction', 'memory_direction(c[C_U] - {m}, COMMAND_PLAY_V)',
-             "direction(signals['command_v'], COMMAND_PLAY_V)", 'command_v',
-             memory=State('command_memory_v', 'V', 1e-3, 'the command as last left by its '
-                          'play (the memory of the direction it moved in)'),
-             follows='memory_rate(c[C_U] - {m}, COMMAND_PLAY_V)'),
-    Variable('motion_direction', None, "direction(signals['angle_rad'], MOTION_PLAY_RAD)",
-             'angle_rad'),
-    Variable('p_a_rate', None, "rate(signals['p_a_pa'], signals.get('t_s'))", 'p_a_pa'),
-    Variable('p_b_rate', None, "rate(signals['p_b_pa'], signals.get('t_s'))", 'p_b_pa'),
-    *(Variable(f'{v}_lag_{1e3 * tau:.0f}ms', None,
-               f"lag(signals['{_READINGS[v][0]}'], signals.get('t_s'), {tau})",
-               _READINGS[v][0], True, lag_s=tau)
-      for v, taus in LAGS_S.items() for tau in taus),
-    # the gas temperatures, where a record holds them (the energy balances)
-    Variable('t_a', 'x[T_A]', "signals['t_a_k']", 't_a_k', room=True),
-    Variable('t_b', 'x[T_B]', "signals['t_b_k']", 't_b_k', room=True),
-    Variable('t_wall', 'c[C_TE]', "core['room_temperature_k']"),
-    Variable('t_a_rate', None, "rate(signals['t_a_k'], signals.get('t_s'))", 't_a_k'),
-    Variable('t_b_rate', None, "rate(signals['t_b_k'], signals.get('t_s'))", 't_b_k'),
-)
-BY_VARIABLE = {v.name: v for v in VARIABLES}
 
 
 @dataclass(frozen=True)
@@ -263,13 +200,6 @@ _FLOWS = ('mass_balance_a', 'mass_balance_b')
 #: balances or the temperatures)
 _MODULATED = ('moment_balance', *_FLOWS, 'valve_input', 'measurement_supply',
               'measurement_angle', 'measurement_p_a', 'measurement_p_b')
-#: the variables a correction's dependence is probed on, each over the span a free
-#: function of it covers: (variable, low, high, words)
-PROBED = (('angle', '0.0', 'stroke', 'the shaft angle'),
-          ('velocity', f'-{PROBE_SPEED_RAD_S}', f'{PROBE_SPEED_RAD_S}', 'the shaft speed'),
-          ('p_a', 'p_atm', 'supply', 'the chamber a pressure'),
-          ('p_b', 'p_atm', 'supply', 'the chamber b pressure'),
-          ('command', '-5.0', '5.0', 'the valve command'))
 TERMS = (
     Term('constant', '1', 1.0, 'one (a constant term)', '1.0',
          says={'torque': w.constant_torque, 'flow': w.constant_flow, 'valve': w.constant_valve,
@@ -360,8 +290,9 @@ TERMS = (
            screened=False) for k in range(N_KNOTS)),
     # free functions of one variable: whether a correction also depends on it (probes)
     *(Term(f'{v}_probe_{k}', '1', 1.0, f'knot {k + 1} of {N_PROBE_KNOTS} of a free function '
-           f'of {words}', f'knot({v}, {low}, {high}, {k})', _MODULATED, screened=False,
-           probes=v) for v, low, high, words in PROBED for k in range(N_PROBE_KNOTS)),
+           f'of {words}', f'knot({v}, {low.name}, {high.name}, {k})', _MODULATED,
+           screened=False, probes=v)
+      for v, words, *_ in PROBED for low, high in [PROBE_SPANS[v]] for k in range(N_PROBE_KNOTS)),
     # dynamics of a sensor: a lag of tau reads, to first order, -tau times the rate
     *(Term(f'rate_p_{k}', 'Pa/s', 2e6, f'rate of change of p_{k} (a lagging transmitter)',
            f'p_{k}_rate', (f'measurement_p_{k}',), says={'reading': w.pressure_rate_reading})
@@ -377,7 +308,7 @@ TERMS = (
            says={'reading': w.temperature_rate_reading}) for k in 'ab'),
     # a reading through a first-order lag at fixed time constants (a memory of the reading;
     # the rates above are its first order)
-    *(Term(f'lag_{1e3 * tau:.0f}ms_{v}', _READINGS[v][2], tau * _READINGS[v][1],
+    *(Term(f'lag_{1e3 * tau:.0f}ms_{v}', READINGS[v][2], tau * READINGS[v][1],
            f'{v} through a first-order lag of {1e3 * tau:.0f} ms, minus {v} (a sensor that '
            'reads late)', f'({v}_lag_{1e3 * tau:.0f}ms - {v})', (f'measurement_{v}',), 2,
            says={'reading': w.lag_reading})
@@ -409,28 +340,13 @@ def variables_of(terms) -> list[Variable]:
     return [v for v in VARIABLES if v.name in names]
 
 
-def _array_namespace(signals: dict, core: dict, variables) -> dict:
-    """``variables`` as arrays over a record (``signals`` [SI]; a missing one at its
-    default), with the functions the expressions call."""
-    n = len(next(iter(signals.values())))
-    ns = {'np': np, 'signed_sqrt': signed_sqrt, 'window': window, 'direction': direction,
-          'rate': rate, 'lag': lag, 'hat': hat, 'knot': knot,
-          'COMMAND_PLAY_V': COMMAND_PLAY_V, 'MOTION_PLAY_RAD': MOTION_PLAY_RAD,
-          'signals': signals, 'core': core}
-    ns['p_atm'] = float(core['atmospheric_pressure_pa'])
-    for v in variables:
-        if v.signal and v.signal not in signals:
-            ns[v.name] = np.full(n, ns['p_atm'] if v.atmospheric else
-                                 float(core['room_temperature_k']) if v.room else 0.0)
-        elif v.name != 'p_atm':
-            ns[v.name] = np.asarray(eval(v.array, ns), dtype=float)  # noqa: S307 - our text
-    return ns
 
-
-def term_values(terms, signals: dict, core: dict) -> np.ndarray:
-    """(n, len(terms)) values of ``terms`` over a record's ``signals`` [SI]; only the
-    variables they use are evaluated (a memory or a rate is a pass over the record)."""
-    ns = _array_namespace(signals, core, variables_of(terms))
+def term_values(terms, signals: dict, core: dict, params: dict | None = None) -> np.ndarray:
+    """(n, len(terms)) values of ``terms`` over a record's ``signals`` [SI] (``params``: the
+    correction's values, for its fixed parameters); only the variables they use are
+    evaluated (a memory or a rate is a pass over the record)."""
+    ns = array_namespace(signals, core, variables_of(terms), params)
     n = len(next(iter(signals.values())))
     return np.column_stack([np.broadcast_to(eval(t.expression, ns), (n,))  # noqa: S307
                             for t in terms]) if terms else np.zeros((n, 0))
+

@@ -114,7 +114,14 @@ def sensing(model: Model, config: ModelConfig) -> tuple:
     where it adds exactly nothing (:func:`..effects.base.switched`: a generic correction
     not in use). A prediction asks once per configuration, not once per segment."""
     return tuple(comp for comp in model.layout.classes if comp.sensor_error is not None
-                 and not (switched(comp) and config.values_of(comp.name) == comp.neutral))
+                 and not (switched(comp) and _at_neutral(config.values_of(comp.name),
+                                                         comp.neutral)))
+
+
+def _at_neutral(values: dict, neutral: dict) -> bool:
+    """Whether ``values`` hold every parameter of ``neutral`` at it (a component's fixed
+    parameters, such as a free function's span, do not switch it on)."""
+    return all(values[k] == v for k, v in neutral.items())
 
 
 def sensor_errors(model: Model, config: ModelConfig, signals: dict,

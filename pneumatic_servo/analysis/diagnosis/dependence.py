@@ -40,8 +40,12 @@ from dataclasses import dataclass, replace
 
 from ...effects.corrections import BY_EQUATION
 from ...effects.terms import BY_NAME as TERMS
-from ...effects.terms import PROBED
+from ...effects.terms import PROBED, probe_spans
+from ...fitting.problem import with_values
 from ...model.assembly import Model
+from ...model.config import ModelConfig
+from ...prediction.inputs import smoothed_signals
+from .data import Data
 from .discovered import Discovered
 from .discovery import ScreenedEquation, _key, confirm, correction_host
 from .status import gain_over
@@ -85,7 +89,7 @@ def probe_keys(equation: str, variable: str, lead: str = '') -> list[str]:
 
 
 def _words(variable: str) -> str:
-    return next(words for v, *_, words in PROBED if v == variable)
+    return next(words for v, words, *_ in PROBED if v == variable)
 
 
 def probe_dependence(trial: Trial, found: Discovered) -> Discovered:
@@ -96,21 +100,30 @@ def probe_dependence(trial: Trial, found: Discovered) -> Discovered:
     tried = [v for v in probes if probes[v]]
     if not tried:
         return found
-    host = correction_host(found.config)  # the correction and base as fitted, the rest at 0
+    # the correction and base as fitted, the rest at 0, each free function over the span the
+    # record holds of its variable
+    host = spanned(correction_host(found.config), found.equation, trial.data)
     model = Model(host)
     level = trial.levels.candidate / len(tried)
     tests, current = [], found
     for number in range(1, ROUNDS + 1):
         left = [v for v in tried if v not in {t.variable for t in tests if t.depends}]
-        fits = {v: _fitted(trial, host, model, found, current, probes[v]) for v in left}
-        round_ = [_tested(trial, fits[v], current, v, len(probes[v]), level, number)
-                  for v in left]
-        best = min((t for t in round_ if t.depends), default=None,
-                   key=lambda t: (t.p_value, -t.size_in_floor))
+        fits = {v: _fitted(trial, host, model, found,
+                           {**current.params, **dict.fromkeys(probes[v], 0.0)}) for v in left}
+        round_ = {v: _tested(trial, fits[v], current, v, len(probes[v]), level, number)
+                  for v in left}
         # only the best of a round is said: a variable that follows another over the record
         # (the angle and p_a in closed-loop steps) passes beside it, and the next round
         # asks whether it adds anything on top
-        tests += [t if t is best else replace(t, depends=False) for t in round_]
+        best = None
+        for t in sorted((t for t in round_.values() if t.depends),
+                        key=lambda t: (t.p_value, -t.size_in_floor)):
+            round_[t.variable] = _rechecked(trial, host, model, found, current,
+                                            fits[t.variable], t)
+            if round_[t.variable].depends:
+                best = round_[t.variable]
+                break
+        tests += [t if t is best else replace(t, depends=False) for t in round_.values()]
         if best is None or len(left) == 1:
             break
         current = fits[best.variable]
@@ -135,6 +148,17 @@ def words(found: Discovered) -> str:
             f'{found.dependence[0].level:.2g}): {tried}')
 
 
+def spanned(config: ModelConfig, equation: str, data: Data) -> ModelConfig:
+    """``config`` with the free functions of ``equation``'s correction spanning what the
+    time series of ``data`` hold of their variables (:func:`~pneumatic_servo.effects.terms.
+    probe_spans`)."""
+    cls_ = BY_EQUATION[equation]
+    spans = probe_spans([{**smoothed_signals(e), 't_s': e.t} for e in data.experiments
+                         if not e.static], config.core)
+    keys = [k for k in spans if any(p.name == k for p in cls_.params)]
+    return with_values(config, [f'{cls_.name}.{k}' for k in keys], [spans[k] for k in keys])
+
+
 def _tested(trial: Trial, richer: Discovered, current: Discovered, variable: str,
             added: int, level: float, number: int) -> DependenceTest:
     """The test, in round ``number``, of ``richer`` (``current`` with the ``added`` probes of
@@ -144,15 +168,29 @@ def _tested(trial: Trial, richer: Discovered, current: Discovered, variable: str
                           p_value <= level and size >= trial.options.practical_size, number)
 
 
-def _fitted(trial: Trial, host, model, found: Discovered, current: Discovered,
-            probes: list[str]) -> Discovered:
-    """``current`` (the correction ``found`` and the probes added to it) with ``probes``
-    beside it, fitted through the simulator from zero, with the base parameters ``found``
-    was fitted with, and scored held out."""
-    start = {**current.params, **dict.fromkeys(probes, 0.0)}
+def _fitted(trial: Trial, host, model, found: Discovered, start: dict[str, float]
+            ) -> Discovered:
+    """The correction ``found`` with the terms of ``start`` (its own and probes) fitted
+    through the simulator from there, with the base parameters ``found`` was fitted with,
+    and scored held out."""
     screened = ScreenedEquation(found.equation, list(start), start, 0.0)
     # the model ``found`` corrects (a named effect under it where it was found on top of
     # one, whose parameters are among those refitted), as the base of the fit
     base = replace(trial.base, config=found.config)
     return confirm(screened, host, model, base, trial.data, list(found.base_params),
                    trial.options)
+
+
+def _rechecked(trial: Trial, host, model, found: Discovered, current: Discovered,
+               richer: Discovered, test: DependenceTest) -> DependenceTest:
+    """``test`` (of ``richer``, ``current`` with a variable's probes beside it) again against
+    ``current`` refitted from ``richer``'s values of its terms, where that refit explains
+    the held-out data better than ``current``: a richer fit also goes on where the smaller
+    one stopped (a flat valley between a proxy and the variable it follows, whose held-out
+    errors differed by a quarter between two fits of the same terms), and that is not the
+    variable's gain."""
+    null = _fitted(trial, host, model, found, {k: richer.params[k] for k in current.params})
+    if null.score.overall >= current.score.overall:
+        return test
+    return _tested(trial, richer, null, test.variable, len(richer.params) -
+                   len(current.params), test.level, test.round)
