@@ -12,7 +12,10 @@ form (see ``open_world_set``); whether the right dependence is said at all: led,
 the readings said to fit as well (``fits_as_well``), which the records cannot tell apart;
 and whether it was right before the test variable by variable (the last mark). Where no
 correction earns its place the tool claims no equation ("not in this vocabulary"); the
-summary counts the equations claimed, and how many of them are wrong.
+summary counts the equations claimed, and how many of them are wrong; and of the claims,
+those where a correction in another equation also earns its place and is not beaten clearly
+(``alike``: equations these records may not tell apart), with how often the truth's is
+among them.
 Then the hit rates beside the target (80 % for equation and dependence) and the count of
 confident wrong names (target 0), with the machine's load.
 
@@ -111,6 +114,7 @@ def judge(cls, result) -> dict:
     """What the diagnosis said, and whether it is right (see module doc)."""
     from pneumatic_servo.analysis.diagnosis.criteria import earns_place
     from pneumatic_servo.analysis.diagnosis.interpret import depends_on
+    from pneumatic_servo.analysis.diagnosis.status import clearly_better
     from pneumatic_servo.effects.terms import BY_NAME
     # a name stated as (part of) the answer: 'explained', or 'partly_explained' with a named
     # first effect; the effect is on no list, so any name is wrong
@@ -130,11 +134,16 @@ def judge(cls, result) -> dict:
     right_eq = best.equation in cls.equations
     closed = _closed_form_right(cls, lead, result)
     said = [set(BY_NAME[t].depends_on) for t in (lead, *best.fits_as_well)]
+    # the corrections of other equations that earn their place and that the best does not
+    # beat clearly: equations these records may not tell apart (not yet said by the tool)
+    alike = [d.equation for d in result.discovered[1:] if d.equation != best.equation
+             and earns_place(d, result.options) and not clearly_better(result.trial, best, d)]
     untested = set(depends_on(best.terms, lead))  # before the test, variable by variable
     # where no correction earns its place the tool says the physics is not in its
     # vocabulary and claims no equation: the best try is judged all the same
     return {**out, 'equation': best.equation, 'leading': lead, 'terms': best.terms,
-            'claimed': earns_place(best, result.options),
+            'claimed': earns_place(best, result.options), 'alike': alike,
+            'right_among_alike': any(e in cls.equations for e in alike),
             'interpretation': best.interpretation, 'right_equation': right_eq,
             'right_dependence': right_eq and variables in cls.depends,
             'right_dependence_untested': right_eq and untested in cls.depends,
@@ -172,6 +181,11 @@ def summary(rows: list[dict]) -> dict:
     claims = [r for r in rows if r.get('claimed')]
     print(f'  equations claimed (a correction earns its place): {len(claims)}, of them wrong: '
           f'{sum(not r["right_equation"] for r in claims)}')
+    alike = [r for r in claims if r.get('alike')]
+    print(f'  of the claims, another equation fits about as well (not beaten clearly) in '
+          f'{len(alike)}; of those wrong, the truth\'s equation is among them in '
+          f'{sum(r["right_among_alike"] for r in alike if not r["right_equation"])} of '
+          f'{sum(not r["right_equation"] for r in alike)}')
     ran = [r['dependence_seconds'] for r in rows if r.get('dependence_seconds')]
     if ran:
         print(f'  the test variable by variable ran on {len(ran)} records: '
