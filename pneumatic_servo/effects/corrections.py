@@ -318,11 +318,11 @@ class Correction(Component):
 
 
 def _correction_class(eq: Equation, hooks: dict) -> type[Component]:
-    params = _params(eq)
+    params, fixed = _params(eq), fixed_params(eq.terms)
     attrs = {'name': f'correction_{eq.name}', 'equation': eq, 'params': params,
-             'neutral': {p.name: 0.0 for p in params if p.name.endswith('_coefficient')},
-             'acts_on': eq.acts_on,
-             'circuits': eq.circuits, 'order': eq.order,
+             # the coefficients: a span of a free function adds nothing alone
+             'neutral': {p.name: 0.0 for p in params if p not in fixed},
+             'acts_on': eq.acts_on, 'circuits': eq.circuits, 'order': eq.order,
              'states': tuple(v.memory for v in eq.memories),
              '__doc__': f'Generic correction: {eq.description} [{eq.unit}], a linear '
                         'combination of the terms.'}
