@@ -318,10 +318,10 @@ class Correction(Component):
 
 
 def _correction_class(eq: Equation, hooks: dict) -> type[Component]:
-    params, fixed = _params(eq), fixed_params(eq.terms)
+    params = _params(eq)
     attrs = {'name': f'correction_{eq.name}', 'equation': eq, 'params': params,
              # the coefficients: a span of a free function adds nothing alone
-             'neutral': {p.name: 0.0 for p in params if p not in fixed},
+             'neutral': {coefficient_name(t.name): 0.0 for t in eq.terms},
              'acts_on': eq.acts_on, 'circuits': eq.circuits, 'order': eq.order,
              'states': tuple(v.memory for v in eq.memories),
              '__doc__': f'Generic correction: {eq.description} [{eq.unit}], a linear '

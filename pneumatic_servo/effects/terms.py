@@ -57,7 +57,6 @@ from .variables import (  # noqa: F401 - emitted files and the package read them
     LAGS_S,
     MOTION_PLAY_RAD,
     PROBE_SPANS,
-    PROBE_SPEED_RAD_S,
     PROBED,
     READINGS,
     VARIABLES,

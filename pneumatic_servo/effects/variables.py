@@ -17,8 +17,8 @@ from .operators import direction, lag, rate
 COMMAND_PLAY_V = 0.05
 #: [rad] width of the play whose output gives the direction the shaft last moved in
 MOTION_PLAY_RAD = 0.004
-#: [rad/s] the shaft speeds a free function of the speed spans (knots at 0 and +-half of it):
-#: the records' step and chirp moves stay within it, and beyond it the end knots hold
+#: [rad/s] the shaft speeds a free function of the speed spans where no record sets its span
+#: (:data:`PROBE_SPANS`' default; a record's steps can reach +-38 rad/s)
 PROBE_SPEED_RAD_S = 4.0
 #: [s] time constants of the first-order lags a reading is offered through: a pressure
 #: transmitter on a short line and on a long thin one. A coefficient c on a lag of tau is,

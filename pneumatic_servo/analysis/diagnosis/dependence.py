@@ -155,7 +155,8 @@ def spanned(config: ModelConfig, equation: str, data: Data) -> ModelConfig:
     cls_ = BY_EQUATION[equation]
     spans = probe_spans([{**smoothed_signals(e), 't_s': e.t} for e in data.experiments
                          if not e.static], config.core)
-    keys = [k for k in spans if any(p.name == k for p in cls_.params)]
+    held = {p.name for p in cls_.params}  # a correction blind to the command has no span of it
+    keys = [k for k in spans if k in held]
     return with_values(config, [f'{cls_.name}.{k}' for k in keys], [spans[k] for k in keys])
 
 

@@ -42,7 +42,7 @@ def first_term(lead, block, costs, base_val: float, n_eff: float) -> int | None:
 
 
 def route(first: int, lead, S_fit, gram, block, costs, n_eff: float, max_terms: int
-           ) -> tuple[list[int], list[float]]:
+          ) -> tuple[list[int], list[float]]:
     """Forward selection from the refined term ``first``: each step adds the column of
     ``block`` (and its least-squares coefficient, linear in the screening slopes) that best
     fits the fitted part's residual, each column counting as ``costs[column]`` parameters
@@ -70,7 +70,7 @@ def route(first: int, lead, S_fit, gram, block, costs, n_eff: float, max_terms: 
 
 
 def best_prefix(path, lead, S_val: dict, costs, base_val: float, n_eff: float):
-    """The prefix of ``route`` (:func:`route`) with the best held-out BIC: (columns,
+    """The prefix of ``path`` (a :func:`route`) with the best held-out BIC: (columns,
     coefficients, held-out RSS, BIC). ``S_val``: held-out sensitivity of each added column."""
     cols, coef = path
     r_val = lead[cols[0]][2]
