@@ -11,7 +11,8 @@ import importlib.util
 import os
 import sys
 import tempfile
-from functools import lru_cache
+import warnings
+from functools import lru_cache, partial
 from pathlib import Path
 
 try:  # numba is a speed-up, never a requirement
@@ -20,10 +21,18 @@ except ImportError:  # pragma: no cover - exercised where numba is absent
     _numba = None
 
 ENABLED = _numba is not None and os.environ.get('PNEUMATIC_SERVO_JIT', '1') != '0'
+if _numba is not None:
+    # the integrators take a right-hand side as a first-class function (model/stepping.py):
+    # numba calls that experimental on every compile, which tells a user nothing to act on
+    warnings.filterwarnings('ignore', 'First-class function type feature is experimental',
+                            _numba.core.errors.NumbaExperimentalFeatureWarning)
 
 
-def njit(func=None, *, allocates=True, **options):
+def njit(func=None, *, allocates=True, signature=None, **options):
     """Compile ``func`` with numba in nopython mode when available, else return it.
+
+    ``signature`` (numba types, or None when compilation is off): compile at once for
+    these argument types only, instead of for each call's types when first called.
 
     Division follows numpy's rules (``error_model='numpy'``): a division by zero gives an
     infinity or NaN, which the integrators' finiteness checks turn into a failed
@@ -43,7 +52,8 @@ def njit(func=None, *, allocates=True, **options):
         if not ENABLED:
             return f
         flags = {} if allocates else _NO_REFCOUNT
-        return _numba.njit(fastmath=False, error_model='numpy', **flags, **options)(f)
+        jit = _numba.njit if signature is None else partial(_numba.njit, signature)
+        return jit(fastmath=False, error_model='numpy', **flags, **options)(f)
     return wrap(func) if func is not None else wrap
 
 

@@ -27,6 +27,10 @@ LONG_FIRST = ('ros/test_ros_monitor.py', 'test_open_world.py', 'test_diagnose.py
 def pytest_configure(config):
     config.addinivalue_line('markers', 'study: an acceptance test at full size, minutes '
                             'long (./run.sh study; not in ./run.sh test)')
+    # pytest resets the warning filters for each test: the one pneumatic_servo._jit sets
+    # (numba's first-class functions, which the integrators take, are 'experimental')
+    config.addinivalue_line('filterwarnings',
+                            'ignore:First-class function type feature is experimental')
 
 
 def pytest_collection_modifyitems(items):

@@ -5,30 +5,25 @@ from __future__ import annotations
 import json
 import sys
 
-import numpy as np
-
 from .assembly import Model, kernel_cache
 from .config import ModelConfig
-from .simulate import initial_state, simulate_batch
+from .simulate import initial_state
 
 
-def compile_batches(config: ModelConfig) -> str:
-    """Compile the batch integrator of ``config``'s composition by running it on a short
-    window with the argument kinds a prediction passes (per-row inputs, start states and
-    lengths: the same compiled signature); returns its kernel module name."""
+def compile_composition(config: ModelConfig) -> str:
+    """Compile the right-hand side of ``config``'s composition by evaluating it once, with
+    the argument kinds the integrators pass (the same compiled signature, which numba caches
+    on disk); returns its kernel module name. The integrators are compiled once for every
+    composition (:mod:`.stepping`): the process that runs them compiles them."""
     model = Model(config)
-    rows, n = 2, 20
-    t = np.arange(n) * 1e-3
-    ps = config.core['atmospheric_pressure_pa'] + 5e5
-    x0 = initial_state(model, command_v=5.0, supply_pa=ps, config=config)
-    simulate_batch(model, t, np.full((rows, n), 5.0), np.full((rows, n), ps),
-                   np.array([x0] * rows), np.array([model.params] * rows), lengths=[n] * rows)
+    model.evaluate(initial_state(model, config=config), 5.0,
+                   config.core['atmospheric_pressure_pa'] + 5e5)
     return kernel_cache.module_name(model.layout)
 
 
 def main() -> None:
     for data in json.loads(sys.stdin.read()):
-        print(compile_batches(ModelConfig.from_dict(data)), flush=True)
+        print(compile_composition(ModelConfig.from_dict(data)), flush=True)
 
 
 if __name__ == '__main__':

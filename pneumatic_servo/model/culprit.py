@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import math
 import time
+from pathlib import Path
 
 import numpy as np
 
@@ -25,8 +26,14 @@ from ..effects.layout import CORE_STATE_NAMES, OUTPUTS
 from ..errors import EffectError, PneumaticServoError
 from . import kernel_cache
 
-#: kernels whose failures are explained (all the kernel module exposes)
+#: kernels whose failures are explained (a composition's right-hand side and the integrators)
 KERNELS = ('rhs', 'fixed_interval', 'adaptive_interval', 'run', 'run_batch')
+#: the integrators' source (not imported here: importing compiles them)
+_STEPPING = Path(__file__).with_name('stepping.py')
+#: the lines importing the compiler in the replayed sources, and what replaces them
+_JIT_IMPORTS = ('from pneumatic_servo._jit import njit, prange\n',
+                'from pneumatic_servo._jit import njit\n')
+_PLAIN = 'njit = lambda *a, **k: (lambda f: f)\nprange = range\n'
 #: [s] wall-clock budget of one replay; it stops there and names nobody
 REPLAY_BUDGET_S = 60.0
 #: samples replayed after the last recorded one before the failure counts as not reproduced
@@ -128,15 +135,17 @@ class _Tracer:
 
 
 def _module(layout) -> dict:
-    """The composition's kernel module as plain Python (its source, uncompiled)."""
+    """The composition's right-hand side and the integrators (:mod:`.stepping`) as plain
+    Python (their source, uncompiled), in one namespace."""
     if layout.classes not in _MODULES:
-        source = kernel_cache.module_source(layout)
-        plain = 'njit = lambda *a, **k: (lambda f: f)\nprange = range\n'
-        imports = 'from pneumatic_servo._jit import njit, prange\n'
-        if imports not in source:  # the template changed: replay not possible
-            return {}
         namespace = {'__name__': 'pneumatic_servo_kernel_replay'}
-        exec(compile(source.replace(imports, plain), '<kernel replay>', 'exec'), namespace)
+        for source in (kernel_cache.module_source(layout),
+                       _STEPPING.read_text()):
+            if not any(line in source for line in _JIT_IMPORTS):  # changed: no replay
+                return {}
+            for line in _JIT_IMPORTS:
+                source = source.replace(line, _PLAIN)
+            exec(compile(source, '<kernel replay>', 'exec'), namespace)
         _MODULES[layout.classes] = namespace
     return _MODULES[layout.classes]
 
@@ -157,7 +166,8 @@ def _replay(layout, name: str, args: tuple):
     args = tuple(a.copy() if isinstance(a, np.ndarray) else a for a in args)
     tracer.deadline = time.perf_counter() + REPLAY_BUDGET_S
     try:
-        result = module[name](*args)
+        result = (module['rhs'](*args) if name == 'rhs' else
+                  module[name](module['rhs'], *args))
     except _Raised as found:
         return found.fault, None
     except Exception:  # the core failed, or the replay ran out of time: name nobody

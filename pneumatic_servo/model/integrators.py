@@ -1,8 +1,8 @@
 """Shared pieces of the compiled time integration: tableau, status codes, projection.
 
 The integrators themselves (Dormand-Prince 5(4) with error control for offline work,
-fixed-step RK4 for real time) live in ``kernel_template.py``, which is compiled once per
-composition of components by ``kernel_cache``. Discontinuities (choked/subsonic switch,
+fixed-step RK4 for real time) live in :mod:`.stepping`, compiled once for every
+composition of components. Discontinuities (choked/subsonic switch,
 stick/slip, valve branch at x_v = 0, end stops) are handled by step rejection: the
 controller shrinks the step until the local error is met.
 

@@ -3,7 +3,8 @@
 The right-hand side of a composition calls the components' stage hooks in a fixed order
 with their parameter slices and state offsets as constants. It is written out as the
 source of a small module (``kernel_template.py`` with its composition block filled in),
-whose functions numba caches on disk (``cache=True``). A second process with the same
+whose functions numba caches on disk (``cache=True``); the integrators that call it are
+compiled once for all compositions (:mod:`.stepping`). A second process with the same
 composition, a Dask worker or a node restart, loads the machine code instead of spending
 seconds compiling it again.
 
@@ -18,7 +19,7 @@ from __future__ import annotations
 
 import hashlib
 import inspect
-from functools import lru_cache
+from functools import lru_cache, partial
 from pathlib import Path
 
 from .. import _jit
@@ -97,20 +98,67 @@ def module_name(layout) -> str:
 
 
 def on_disk(layout) -> bool:
-    """Whether numba holds compiled code of ``layout``'s batch integrator on disk."""
+    """Whether numba holds compiled code of ``layout``'s right-hand side on disk."""
     try:
-        return Path(load(layout)['run_batch']._cache._cache_file._index_path).exists()
+        return Path(load(layout)['rhs']._cache._cache_file._index_path).exists()
     except AttributeError:  # another numba's internals, or numba off: say not
         return False
 
 
 def load(layout) -> dict:
-    """Kernels of ``layout`` (``rhs``, ``fixed_interval``, ``adaptive_interval``, ``run``,
-    ``run_batch``) from its cached module, writing the module first if it is new."""
+    """Kernels of ``layout`` (``rhs``, and the integrators ``fixed_interval``,
+    ``adaptive_interval``, ``run``, ``run_batch`` calling it) from its cached module, writing
+    the module first if it is new."""
     source = module_source(layout)
     hooks = {f'_hook_{i}_{stage}': cls.hook(stage)  # the hooks, as globals of the module
              for i, cls in enumerate(layout.classes) for stage in STAGES
              if cls.hook(stage) is not None}
     module = _jit.load_generated(module_name(layout), source, hooks)
-    return {k: getattr(module, k) for k in
-            ('rhs', 'fixed_interval', 'adaptive_interval', 'run', 'run_batch')}
+    return {'rhs': module.rhs, **{name: Integrator(name, module.rhs) for name in
+                                  ('fixed_interval', 'adaptive_interval', 'run', 'run_batch')}}
+
+
+class Integrator:
+    """An integrator of :mod:`.stepping` bound to one composition's right-hand side, called
+    with the integrator's other arguments. Bound on first use: importing :mod:`.stepping`
+    compiles it on a fresh machine, which a process that only compiles a right-hand side (a
+    helper of :mod:`.compile_ahead`) never needs.
+
+    A whole run (``run``, ``run_batch``) is called with the right-hand side as its argument:
+    numba converts it to a function's address on each call (95 us, measured), nothing
+    beside a run. A real-time stepper is called once per control period: there a small
+    compiled function holds the right-hand side and converts it once, when it compiles
+    (about 1 s per composition in each process that steps it: numba cannot cache code that
+    holds a function's address).
+    """
+
+    def __init__(self, name: str, rhs):
+        self.name, self.rhs, self._bound = name, rhs, None
+
+    def __call__(self, *args):
+        return self.bound(*args)
+
+    @property
+    def bound(self):
+        """The integrator with the right-hand side bound."""
+        if self._bound is None:
+            from . import stepping
+            integrator = getattr(stepping, self.name)
+            if self.name in ('run', 'run_batch'):
+                self._bound = partial(integrator, self.rhs)
+            else:
+                self._bound = _holding(integrator, self.rhs)
+        return self._bound
+
+    def __getattr__(self, attr):  # numba's attributes (``targetoptions``, ...)
+        if attr.startswith('_'):  # not yet set (a copy being made): never bind for it
+            raise AttributeError(attr)
+        return getattr(self.bound, attr)
+
+
+def _holding(integrator, rhs):
+    """``integrator`` with ``rhs`` as its first argument, compiled (a closure: not cached)."""
+    @_jit.njit(allocates=False)
+    def bound(*args):
+        return integrator(rhs, *args)
+    return bound

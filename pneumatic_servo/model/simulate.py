@@ -254,7 +254,8 @@ def simulate(model=None, t=None, command_v=5.0, supply_pa=None, x0=None,
     P = model.param_vector(cfg)
     X = np.full((len(t), model.n_states), np.nan)  # NaN: the rows recorded show a failure's place
     Y = np.empty((len(t), len(OUTPUT_NAMES)))
-    args = (x0, t, u_valve, ps, P, CIRCUITS[circuit], method == 'adaptive', rtol,
+    args = (_kernel_array(x0), _kernel_array(t), _kernel_array(u_valve), _kernel_array(ps),
+            _kernel_array(P), CIRCUITS[circuit], method == 'adaptive', rtol,
             model.abs_tol * atol_scale, int(substeps))
     status, k = model.kernels['run'](*args, X, Y)
     if status != 0:
@@ -264,6 +265,12 @@ def simulate(model=None, t=None, command_v=5.0, supply_pa=None, x0=None,
         X = delayed(t, measured_states(model, cfg, t, X, u_valve, ps), d_out)
     return SimResult(t, X, model.state_names, Y, circuit,
                      {'command_v': u, 'supply_pa': ps})
+
+
+def _kernel_array(values) -> np.ndarray:
+    """``values`` as the integrators take every array: float, C-contiguous and writable (a
+    read-only view, as ``np.broadcast_to`` gives, is another type to numba: copied)."""
+    return np.require(values, dtype=float, requirements=['C', 'W'])
 
 
 def simulate_batch(model: Model, t, command_v, supply_pa, x0s, param_matrix,
@@ -276,12 +283,12 @@ def simulate_batch(model: Model, t, command_v, supply_pa, x0s, param_matrix,
     n; beyond them its states are NaN). Returns states (m, n, n_states), outputs and a
     status per row (0 = ok).
     """
-    t = np.asarray(t, dtype=float)
-    pm = np.ascontiguousarray(param_matrix, dtype=float)
+    t = _kernel_array(t)
+    pm = _kernel_array(param_matrix)
     m = pm.shape[0]
-    U = np.ascontiguousarray(np.broadcast_to(command_v, (m, len(t))), dtype=float)
-    PS = np.ascontiguousarray(np.broadcast_to(supply_pa, (m, len(t))), dtype=float)
-    X0 = np.ascontiguousarray(np.broadcast_to(x0s, (m, model.n_states)), dtype=float)
+    U = _kernel_array(np.broadcast_to(command_v, (m, len(t))))
+    PS = _kernel_array(np.broadcast_to(supply_pa, (m, len(t))))
+    X0 = _kernel_array(np.broadcast_to(x0s, (m, model.n_states)))
     XB = np.full((m, len(t), model.n_states), np.nan)  # a failed row shows where it stopped
     YB = np.empty((m, len(t), len(OUTPUT_NAMES)))
     status = np.zeros(m, dtype=np.int64)
