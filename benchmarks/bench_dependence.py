@@ -12,7 +12,8 @@ For each record it prints the status, the best correction's equation and leading
 variables tried (``+`` added, ``-`` not), and what it is said to depend on against the
 truth's variables. Then the counts: variables said that the truth does not depend on (the
 test's false statements; its stated rate is at most the candidate level per correction,
-a fraction of a per cent), and the truth's variables missed before and after the test.
+a fraction of a per cent), the truth's variables missed before and after the test, and the
+leading terms found not needed beside the variables said (and truth variables so dropped).
 
 Run: ``.venv/bin/python benchmarks/bench_dependence.py [--only TERM] [--json PATH]``.
 """
@@ -59,10 +60,12 @@ def row(equation: str, term: str, result) -> dict:
     before = set(depends_on(best.terms, best.leading))
     tests = [t.to_json() for t in best.dependence]
     said = {t['variable'] for t in tests if t['depends']}
+    dropped = best.lead_test is not None and not best.lead_test.needed
     return {**out, 'equation': equation, 'judged': True, 'leading': best.leading,
             'before': sorted(before), 'after': best.depends_on, 'tests': tests,
             'false': sorted(said - truth), 'missed_before': sorted(truth - before),
-            'missed_after': sorted(truth - set(best.depends_on))}
+            'missed_after': sorted(truth - set(best.depends_on)), 'lead_dropped': dropped,
+            'truth_dropped': sorted((before & truth) - set(best.depends_on))}
 
 
 def main(argv=None) -> int:
@@ -101,6 +104,9 @@ def main(argv=None) -> int:
     for k in ('missed_before', 'missed_after'):
         print(f"  truth variables {k.replace('_', ' ')} the test: "
               f"{sum(len(r[k]) for r in judged)} of {sum(len(r['truth']) for r in judged)}")
+    print(f"  leading terms found not needed beside the variables said: "
+          f"{sum(r['lead_dropped'] for r in judged)}, dropping a truth variable: "
+          f"{sum(len(r['truth_dropped']) for r in judged)}")
     return 0
 
 

@@ -7,7 +7,8 @@ control at 1 kHz with laboratory sensors, through the tight integrator):
 * a flow into chamber a that follows the speed. In closed loop the command follows the
   speed, and a flow that follows the command is a proxy of it (a torque read so was the
   proxy discovery found before the moment balance stopped offering the command): given
-  that proxy, the test must say that the flow also depends on the speed;
+  that proxy, the test must say that the flow also depends on the speed, and that the
+  proxy adds nothing beside a free function of the speed (it depends on the speed alone);
 * the weight of an arm (a torque in the sine of the angle), found as itself: the test must
   say that it depends on nothing more, and it is skipped where the options say so.
 """
@@ -65,9 +66,12 @@ def test_a_proxy_of_the_speed_is_found_to_depend_on_the_speed():
     # this loop, pass beside it in the first round and add nothing in the second
     assert [t.variable for t in said] == ['velocity'], [t.to_json() for t in best.dependence]
     assert said[0].p_value <= said[0].level
-    assert 'velocity' in best.depends_on
-    assert 'velocity' in best.to_json()['depends_on']
     assert 'also depends on the shaft speed' in best.interpretation
+    # and the proxy adds nothing clearly beside a free function of the speed: it stood for
+    # the speed, and the correction depends on the speed alone
+    assert best.lead_test is not None and not best.lead_test.needed, best.lead_test
+    assert best.depends_on == ['velocity'] == best.to_json()['depends_on']
+    assert 'its leading term stood for them' in best.interpretation
 
 
 def test_a_correction_that_is_the_whole_truth_is_said_to_depend_on_nothing_more():
@@ -75,6 +79,7 @@ def test_a_correction_that_is_the_whole_truth_is_said_to_depend_on_nothing_more(
     best = result.discovered[0]
     assert best.leading == 'sin_angle'
     assert best.dependence and not any(t.depends for t in best.dependence)
+    assert best.lead_test is None  # nothing said: its own terms are not put in question
     assert best.depends_on == ['angle'] and 'also depends' not in best.interpretation
 
 

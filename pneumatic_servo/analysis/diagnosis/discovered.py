@@ -35,6 +35,9 @@ class Discovered(Candidate):
     fits_as_well: dict = field(default_factory=dict)
     #: the variables tested beside it, one by one (:mod:`.dependence`)
     dependence: tuple = ()
+    #: whether its own terms are needed beside free functions of the variables said
+    #: (:class:`.dependence.LeadTest`; None where none was said)
+    lead_test: object = None
 
     @property
     def terms(self) -> dict[str, float]:
@@ -49,8 +52,10 @@ class Discovered(Candidate):
     def depends_on(self) -> list[str]:
         """The variables the correction depends on: its leading term's, those of the terms
         that make the leading term's size vary (:func:`.interpret.varies_with`), and those a
-        free function of which, beside it, explains clearly more (:mod:`.dependence`)."""
-        used = {*depends_on(self.terms, self.leading),
+        free function of which, beside it, explains clearly more (:mod:`.dependence`); only
+        the latter where its own terms add nothing clearly beside those functions."""
+        dropped = self.lead_test is not None and not self.lead_test.needed
+        used = {*(() if dropped else depends_on(self.terms, self.leading)),
                 *(t.variable for t in self.dependence if t.depends)}
         return [v.name for v in VARIABLES if v.name in used]
 
@@ -62,4 +67,5 @@ class Discovered(Candidate):
                 'screened_reduction': self.screened_reduction, 'term_sizes': self.sizes,
                 'depends_on': self.depends_on,
                 'dependence_tests': [t.to_json() for t in self.dependence],
+                'lead_test': self.lead_test.to_json() if self.lead_test else None,
                 'term_shares': self.shares, 'fits_as_well': dict(self.fits_as_well)}
