@@ -27,12 +27,14 @@ most the candidate level, and no later round runs.
 
 Where a variable was said, the correction's own terms are then tested beside free functions
 of the variables said (:class:`LeadTest`): the functions are fitted alone, and the terms must
-add to them clearly (the same gain test, the terms as the added parameters). Where they do
-not, the correction depends on the variables said and not on its leading term's, which stood
-for them: on held-out set 8, four of the six records whose equation was right and whose
-dependence was wrong had a leading term of a variable the truth does not depend on, which
-adding variables cannot mend. A leading term that is the truth is dropped so only where a
-variable was wrongly said beside it, which the forward test allows at its level.
+add to them clearly (the same gain test at the candidate level, one test, the terms as the
+added parameters). Where they do not, the correction depends on the variables said and not
+on its leading term's, which stood for them: on held-out set 8, four of the six records whose
+equation was right and whose dependence was wrong had a leading term of a variable the truth
+does not depend on, which adding variables cannot mend. A leading term of the truth's is
+dropped so where a variable was wrongly said beside it (the forward test allows that at its
+level), or where its own variable adds too little to show beside those said: then that
+variable is missed, and nothing false is said.
 
 A linear screen (the knots' sensitivities at the fitted correction, as discovery screens its
 terms) was tried first, to fit only the variables it ranked: fitted together, the knots'
@@ -161,8 +163,7 @@ def probe_dependence(trial: Trial, found: Discovered) -> Discovered:
         f'; it also depends on {_words(t.variable)}: a free function of it beside the '
         f'correction explains clearly more (p = {t.p_value:.2g}, {t.size_in_floor:.2f} x '
         'the prediction floor)' for t in said)
-    lead = _lead_tested(trial, host, model, found, current, [t.variable for t in said],
-                        level)
+    lead = _lead_tested(trial, host, model, found, current, [t.variable for t in said])
     if lead is not None and not lead.needed:
         text += (f'; its own terms add nothing clearly beside free functions of '
                  f'{", ".join(_words(t.variable) for t in said)} (p = {lead.p_value:.2g}, '
@@ -222,7 +223,7 @@ def _fitted(trial: Trial, host, model, found: Discovered, start: dict[str, float
 
 
 def _lead_tested(trial: Trial, host, model, found: Discovered, richer: Discovered,
-                 said: list[str], level: float) -> LeadTest | None:
+                 said: list[str]) -> LeadTest | None:
     """The test of ``found``'s own terms beside free functions of the variables ``said``
     (``richer``: both fitted): the functions are fitted alone, from their values in
     ``richer``, with ``found``'s terms at zero, and ``richer``'s gain over that fit is
@@ -230,14 +231,14 @@ def _lead_tested(trial: Trial, host, model, found: Discovered, richer: Discovere
 
     Where a variable was said, ``richer`` explains clearly more than ``found``; where
     ``found``'s terms then add nothing clearly to the functions alone, those explain what
-    ``found`` did, and more. A leading term that is the truth is never dropped so unless a
-    variable was said of it wrongly, which the forward test allows at its level."""
+    ``found`` did, and more. One test, at the candidate level."""
     if not said:
         return None
     knots = [k for v in said for k in probe_keys(found.equation, v)]
     alone = _fitted(trial, with_values(host, list(found.params), [0.0] * len(found.params)),
                     model, found, {k: richer.params[k] for k in knots})
     p_value, size = gain_over(trial, richer, alone, added=richer.n_params - alone.n_params)
+    level = trial.levels.candidate
     return LeadTest(found.leading, p_value, size, level,
                     p_value <= level and size >= trial.options.practical_size)
 
