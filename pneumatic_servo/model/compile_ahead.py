@@ -2,12 +2,13 @@
 
 On a fresh machine a diagnosis compiles its compositions' right-hand sides one after
 another (1.3-1.7 s each on a 2-core AMD EPYC, 26.5 s for the host of every generic
-correction: :mod:`.stepping` holds the integrators, compiled once). The later ones do not depend on what the earlier ones
-find, so :func:`start` has a helper process (:mod:`.compile_helper`) compile some of them
-into the on-disk cache (:mod:`.kernel_cache`) while this process compiles and fits the
-others; when this process reaches one, :func:`wait` blocks until the helper has finished
-it, and numba loads it from the cache instead of compiling it again. Which compositions
-are handed over is :func:`.assembly.compile_in_background`'s choice.
+correction: :mod:`.stepping` holds the integrators, compiled once). The later ones do not
+depend on what the earlier ones find, so :func:`start` has a helper process
+(:mod:`.compile_helper`) compile some of them into the on-disk cache (:mod:`.kernel_cache`)
+while this process compiles and fits the others; when this process reaches one,
+:func:`wait` blocks until the helper has finished it, and numba loads it from the cache
+instead of compiling it again. Which compositions are handed over is
+:func:`.assembly.compile_in_background`'s choice.
 
 If the helper fails or is slow, this process compiles for itself: at worst as slowly as
 without it, never wrongly.

@@ -76,9 +76,9 @@ def module_source(layout) -> str:
               '    core_begin(t, x, u, ps, P, circuit, c, dx)',
               *(f'    _{stage}(t, x, P, c, dx)' for stage in STAGES),
               '    core_end(t, x, P, circuit, c, dx)', '', '',
-              'rhs = _rhs if ENABLED else nan_on_math_error(_rhs)',
-              f'N_STATE = {layout.n_states}', '']
+              'rhs = _rhs if ENABLED else nan_on_math_error(_rhs)', '']
     header = ('from pneumatic_servo._jit import ENABLED\n'
+              'from pneumatic_servo._jit import njit\n'
               'from pneumatic_servo.model.core import core_begin, core_end, nan_on_math_error\n')
     template = _TEMPLATE.read_text()
     before, rest = template.split(_BEGIN)
