@@ -70,10 +70,6 @@ def _no_refcount_flag() -> dict:
 _NO_REFCOUNT = _no_refcount_flag() if _numba is not None else {}
 
 
-#: ``numba.prange`` when compiling (parallel loops), ``range`` otherwise
-prange = _numba.prange if ENABLED else range
-
-
 def is_compiled(func) -> bool:
     """True if ``func`` is already a numba dispatcher (or compilation is off)."""
     return not ENABLED or hasattr(func, 'py_func')

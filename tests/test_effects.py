@@ -349,8 +349,8 @@ class FailingTable(Component):
 
 
 def test_a_failing_user_hook_is_named_with_its_own_error():
-    """Compiled, a hook that raises shows as the kernel's error (from the parallel batch as
-    'SystemError: CPUDispatcher(...) returned a result with an exception set') and one that
+    """Compiled, a hook that raises shows as the kernel's error (from the batch, run in
+    threads, as 'SystemError: CPUDispatcher(...) returned a result with an exception set') and one that
     gives NaN as a non-finite state: both are named, with the hook's own error, wherever the
     model runs."""
     from pneumatic_servo.errors import EffectError, SimulationError
@@ -365,7 +365,7 @@ def test_a_failing_user_hook_is_named_with_its_own_error():
         with pytest.raises(EffectError, match=said):
             simulate(model, t, 5.3)
         x0 = initial_state(model)
-        with pytest.raises(EffectError, match=said):  # the parallel batch
+        with pytest.raises(EffectError, match=said):  # the batch, in two threads
             simulate_batch(model, t, 5.3, SUPPLY, np.array([x0, x0]),
                            np.array([model.params, model.params]))
         stepper = Stepper(model)

@@ -11,6 +11,7 @@ import zlib
 import numpy as np
 import pytest
 
+from pneumatic_servo import _jit
 from pneumatic_servo.effects.layout import (
     BLOCKED,
     C_MA,
@@ -443,3 +444,31 @@ def test_a_batch_row_stops_at_its_own_length_with_the_same_states():
     assert list(status) == [0, 0]
     np.testing.assert_array_equal(XB[1, :73], XB[0, :73])
     assert np.isnan(XB[1, 73:]).all() and np.isfinite(XB[0]).all()
+
+
+@pytest.mark.skipif(not _jit.ENABLED, reason='threads take turns in plain Python')
+def test_a_batch_gives_each_row_the_same_states_in_one_thread_or_several():
+    """A batch runs blocks of rows in threads (``stepping.run_batch_threaded``): each row is
+    the same whether its block ran in this thread or another, and whatever the number of
+    threads (five rows over two threads: blocks of two and three)."""
+    import numba
+
+    from pneumatic_servo.model.simulate import simulate_batch
+    model = Model(ModelConfig.paper())
+    t = np.arange(0.0, 0.1, 1e-3)
+    params = np.array([model.params] * 5)
+    params[:, model.param_index('core.gear_inertia_kg_m2')] *= np.linspace(0.5, 1.5, 5)
+    x0s = np.array([initial_state(model)] * 5)
+    runs = []
+    for threads in (1, min(2, numba.config.NUMBA_NUM_THREADS)):
+        numba.set_num_threads(threads)
+        try:
+            runs.append(simulate_batch(model, t, 5.2, 7e5, x0s, params, lengths=[100, 60, 100,
+                                                                                  80, 100]))
+        finally:
+            numba.set_num_threads(numba.config.NUMBA_NUM_THREADS)
+    (one, _, status_one), (several, _, status_several) = runs
+    np.testing.assert_array_equal(status_one, [0] * 5)
+    np.testing.assert_array_equal(status_several, status_one)
+    np.testing.assert_array_equal(several, one)
+    assert len({float(np.nanmax(np.abs(row[:, 1]))) for row in one}) == 5  # rows differ

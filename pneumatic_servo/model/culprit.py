@@ -31,9 +31,8 @@ KERNELS = ('rhs', 'fixed_interval', 'adaptive_interval', 'run', 'run_batch')
 #: the integrators' source (not imported here: importing compiles them)
 _STEPPING = Path(__file__).with_name('stepping.py')
 #: the lines importing the compiler in the replayed sources, and what replaces them
-_JIT_IMPORTS = ('from pneumatic_servo._jit import njit, prange\n',
-                'from pneumatic_servo._jit import njit\n')
-_PLAIN = 'njit = lambda *a, **k: (lambda f: f)\nprange = range\n'
+_JIT_IMPORTS = ('from pneumatic_servo._jit import njit\n',)
+_PLAIN = 'njit = lambda *a, **k: (lambda f: f)\n'
 #: [s] wall-clock budget of one replay; it stops there and names nobody
 REPLAY_BUDGET_S = 60.0
 #: samples replayed after the last recorded one before the failure counts as not reproduced

@@ -144,7 +144,9 @@ class Integrator:
         if self._bound is None:
             from . import stepping
             integrator = getattr(stepping, self.name)
-            if self.name in ('run', 'run_batch'):
+            if self.name == 'run_batch':  # blocks of rows in threads
+                self._bound = partial(stepping.run_batch_threaded, self.rhs)
+            elif self.name == 'run':
                 self._bound = partial(integrator, self.rhs)
             else:
                 self._bound = _holding(integrator, self.rhs)

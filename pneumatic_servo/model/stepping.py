@@ -15,17 +15,17 @@ on two threads 703-787x against 688x).
 * ``fixed_interval``: classical RK4 with a fixed number of substeps, the real-time
   stepper (constant cost per control period).
 * ``run`` / ``run_batch``: a whole simulation over sample times with zero-order-hold
-  inputs, one parameter vector or many in parallel (each row over its own number of
-  samples).
+  inputs, one parameter vector or many (each row over its own number of samples).
 
 Every array is C-contiguous (the signatures say so): the callers make them so.
 """
 import math
+from concurrent.futures import ThreadPoolExecutor, wait
 
 import numpy as np
 
 from pneumatic_servo import _jit
-from pneumatic_servo._jit import njit, prange
+from pneumatic_servo._jit import njit
 from pneumatic_servo.effects.layout import K_STROKE, N_CONTEXT, OUTPUTS, SERVO, THETA
 from pneumatic_servo.model.integrators import (
     _A21,
@@ -80,7 +80,6 @@ def _signatures() -> dict:
         'adaptive_interval': nt.Tuple((i8, f8))(fn, f8, vec, f8, f8, vec, i8, f8, f8, f8, vec,
                                                 vec, mat, i8),
         'record': none(fn, f8, vec, f8, f8, vec, i8, vec, vec, mat, mat, i8),
-        'run': nt.Tuple((i8, i8))(*run),
         'run_to': nt.Tuple((i8, i8))(*run, i8),
         'run_batch': none(fn, mat, vec, mat, mat, mat, i8, b1, f8, vec, i8, cube, cube,
                           i8[::1], i8[::1]),
@@ -231,17 +230,61 @@ def run_to(rhs, x0, t, u, ps, P, circuit, adaptive, rtol, atol, n_sub, X, Y, n):
     return OK, n - 1
 
 
-@njit(cache=True, signature=SIGNATURES.get('run'))
 def run(rhs, x0, t, u, ps, P, circuit, adaptive, rtol, atol, n_sub, X, Y):
-    """Simulate over the sample times ``t`` with ZOH inputs; fills X, Y; returns status."""
+    """Simulate over the sample times ``t`` with ZOH inputs; fills X, Y; returns status.
+    Not compiled itself: ``run_to`` over every sample (a compiled copy cost 0.8 s on a fresh
+    machine, for nothing)."""
     return run_to(rhs, x0, t, u, ps, P, circuit, adaptive, rtol, atol, n_sub, X, Y, len(t))
 
 
-@njit(cache=True, parallel=True, signature=SIGNATURES.get('run_batch'))
+@njit(cache=True, nogil=True, signature=SIGNATURES.get('run_batch'))
 def run_batch(rhs, X0, t, U, PS, PM, circuit, adaptive, rtol, atol, n_sub, XB, YB, status, N):
-    """``run`` for each row of the parameter matrix ``PM`` (and of X0, U, PS), in parallel,
-    over the first ``N[m]`` samples of row m (windows of unequal length share one array)."""
-    for m in prange(PM.shape[0]):
+    """``run`` for each row of the parameter matrix ``PM`` (and of X0, U, PS), over the
+    first ``N[m]`` samples of row m (windows of unequal length share one array). It releases
+    the GIL: :func:`run_batch_threaded` runs blocks of rows in threads."""
+    for m in range(PM.shape[0]):
         s, _ = run_to(rhs, X0[m], t, U[m], PS[m], PM[m], circuit, adaptive, rtol, atol, n_sub,
                       XB[m], YB[m], N[m])
         status[m] = s
+
+
+_POOL: ThreadPoolExecutor | None = None
+
+
+def _threads() -> int:
+    """How many threads a batch may use: numba's thread count (one per core, or what
+    ``NUMBA_NUM_THREADS`` or ``numba.set_num_threads`` say: one in a fleet worker)."""
+    if not _jit.ENABLED:
+        return 1  # plain Python holds the GIL: threads would only take turns
+    import numba
+    return numba.get_num_threads()
+
+
+def run_batch_threaded(rhs, X0, t, U, PS, PM, circuit, adaptive, rtol, atol, n_sub, XB, YB,
+                       status, N):
+    """``run_batch`` over equal blocks of rows, one per thread (:func:`_threads`), the first
+    in this thread; each block writes only its own rows. numba's own parallel loop
+    (``prange``) did the same, but cost 3.4 s to compile on a fresh machine against 0.9 s
+    for the plain loop, and its idle threads spin: a fresh diagnosis took 60 s of CPU in
+    its main process with it and 45 s without (a 2-core AMD EPYC), time the compile helper
+    of :mod:`.compile_ahead` needs."""
+    global _POOL
+    rows = PM.shape[0]
+    n = max(1, min(_threads(), rows))
+    edges = [rows * i // n for i in range(n + 1)]
+
+    def block(a, b):
+        run_batch(rhs, X0[a:b], t, U[a:b], PS[a:b], PM[a:b], circuit, adaptive, rtol, atol,
+                  n_sub, XB[a:b], YB[a:b], status[a:b], N[a:b])
+
+    if n == 1:
+        return block(0, rows)
+    if _POOL is None:
+        _POOL = ThreadPoolExecutor(thread_name_prefix='pneumatic_servo_batch')
+    others = [_POOL.submit(block, a, b) for a, b in zip(edges[1:-1], edges[2:])]
+    try:
+        block(edges[0], edges[1])
+    finally:
+        wait(others)  # no thread still writes when this returns or raises
+    for future in others:
+        future.result()  # a block that raised raises here
