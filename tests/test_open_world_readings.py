@@ -210,3 +210,33 @@ def test_a_gauge_transmitters_gain_error_is_read_over_its_span():
         ('none', 'measurement_p_a', 'gauge_p_a'), result.reason
     assert best.terms['gauge_p_a'] == pytest.approx(0.03, rel=0.05)
     assert "chamber a transmitter's gain over its gauge span is off by +" in best.interpretation
+
+
+class _Found:
+    """A fitted correction as the ordering sees it: its equation and its terms."""
+
+    def __init__(self, equation: str, *terms: str):
+        self.equation, self.terms = equation, dict.fromkeys(terms, 1.0)
+
+
+@pytest.mark.parametrize('best, other, first', [
+    # a crosstalk of the command into the supply reading, beside a chamber's flow
+    (('measurement_supply', 'abs_command'), ('mass_balance_a', 'p_a'), 'mass_balance_a'),
+    # a valve error following the command, beside p_b's transmitter lagging
+    (('valve_input', 'command'), ('measurement_p_b', 'lag_20ms_p_b', 'constant'),
+     'measurement_p_b'),
+    # a torque over the stroke, beside a crosstalk of the angle into p_b's reading: kept
+    (('moment_balance', 'angle'), ('measurement_p_b', 'cos_angle'), 'moment_balance'),
+])
+def test_of_equations_the_records_do_not_tell_apart_the_likeliest_kind_leads(best, other,
+                                                                              first):
+    """Where a correction of another equation earns its place and the best does not explain
+    the held-out data clearly better, the likelier kind leads: a sensor's own reading, then
+    a balance equation, then a crosstalk into a sensor (``readings.likeliest_first``)."""
+    from pneumatic_servo.analysis.diagnosis.readings import likeliest_first
+    found = [_Found(*best), _Found(*other)]
+    ordered = likeliest_first(found, claims=lambda d: True, beats_clearly=lambda d, c: False)
+    assert ordered[0].equation == first and len(ordered) == 2
+    # beaten clearly, or not earning its place, the other does not lead
+    assert likeliest_first(found, lambda d: True, lambda d, c: True)[0] is found[0]
+    assert likeliest_first(found, lambda d: d is found[0], lambda d, c: False)[0] is found[0]

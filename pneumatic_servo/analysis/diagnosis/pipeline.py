@@ -49,13 +49,14 @@ from ...prediction import predict
 from ..regimes import error_shares, hot_spots
 from ..residuals import residual_tests, summary
 from .candidates import Baseline, Candidate, baseline, candidate_effects, screen_effect, try_effect
-from .criteria import Levels, certain
+from .criteria import Levels, certain, earns_place
 from .data import Data
 from .dependence import probe_dependence
 from .discovery import Discovered, correction_host, discover
 from .hosts import host_for, shareable, shared_host
 from .ladder import ladder
 from .options import DiagnoseOptions
+from .readings import likeliest_first
 from .refit import remainder, restarted
 from .result import Diagnosis, added_by
 from .scoring import relative_fall
@@ -170,6 +171,7 @@ def diagnose(experiments: list[Experiment], config: ModelConfig | None = None,
                              or trial.departures(trial.base.score).departs):
         found = timed('discovery', look_for_terms, trial, trial.base, progress)
         ranking, found = ranked_together(trial, ranking, found)
+        found = likelier_first(trial, found)
     ranking, found = timed('restart', settled, trial, ranking, found)
     first = best_named(trial, ranking)
     left = timed('floor_of_verdict', remainder, trial, first, found) if first else None
@@ -182,6 +184,7 @@ def diagnose(experiments: list[Experiment], config: ModelConfig | None = None,
         found = timed('discovery_on_top', look_for_terms, replace(
             trial, free=trial.free + tuple(present_keys(winner.config))), on_top, progress,
             on_top, True)
+        found = likelier_first(trial, found)
     if finding.status == 'unexplained' and found:
         finding, found = timed('shape', shape_before_formula, trial, finding, found)
     keep = finding.status in ('partly_explained', 'unexplained')  # validation keeps it
@@ -309,6 +312,13 @@ def validated(trial: Trial, ranking, found, finding, other: Data):
             f'; but it makes the other experiments worse (error '
             f'{-100 * winner.validation.error_reduction:+.0f} %): it may only overfit this one'))
     return ranking, found, finding
+
+
+def likelier_first(trial: Trial, found: list) -> list:
+    """``found`` with the likeliest kind of correction first among the equations the
+    records do not tell apart (:func:`.readings.likeliest_first`)."""
+    return likeliest_first(found, lambda d: earns_place(d, trial.options),
+                           lambda d, c: clearly_better(trial, d, c))
 
 
 def look_for_terms(trial: Trial, base: Baseline, progress=None, reference=None,
