@@ -171,7 +171,6 @@ def diagnose(experiments: list[Experiment], config: ModelConfig | None = None,
                              or trial.departures(trial.base.score).departs):
         found = timed('discovery', look_for_terms, trial, trial.base, progress)
         ranking, found = ranked_together(trial, ranking, found)
-        found = likelier_first(trial, found)
     ranking, found = timed('restart', settled, trial, ranking, found)
     first = best_named(trial, ranking)
     left = timed('floor_of_verdict', remainder, trial, first, found) if first else None
@@ -244,10 +243,11 @@ def settled(trial: Trial, ranking: list[Candidate], found: list) -> tuple[list, 
 
 def ranked_together(trial: Trial, ranking: list[Candidate], found: list) -> tuple[list, list]:
     """(named, generic) ranked in one list, with one effective sample count for all, so that
-    named effects and generic corrections compare fairly; each part best first."""
+    named effects and generic corrections compare fairly; each part best first (of
+    equations the records do not tell apart, the likeliest kind first)."""
     joint = rank(ranking + found, trial)
     return ([c for c in joint if not isinstance(c, Discovered)],
-            [c for c in joint if isinstance(c, Discovered)])
+            likelier_first(trial, [c for c in joint if isinstance(c, Discovered)]))
 
 
 def named_candidates(trial: Trial, names: list[str], progress=None) -> list[Candidate]:
