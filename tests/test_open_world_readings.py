@@ -3,6 +3,7 @@ transmitter or temperature sensor, a heat flow, a reading said beside the chosen
 gauge transmitter's gain error. Each unlisted effect is registered only while its data
 are made. (Split from ``test_open_world.py`` so they run on another pytest-xdist worker.)"""
 import math
+from dataclasses import dataclass
 
 import numpy as np
 import pytest
@@ -212,11 +213,23 @@ def test_a_gauge_transmitters_gain_error_is_read_over_its_span():
     assert "chamber a transmitter's gain over its gauge span is off by +" in best.interpretation
 
 
+@dataclass(frozen=True)
 class _Found:
-    """A fitted correction as the ordering sees it: its equation and its terms."""
+    """A fitted correction as the ordering sees it: its equation, terms and words."""
 
-    def __init__(self, equation: str, *terms: str):
-        self.equation, self.terms = equation, dict.fromkeys(terms, 1.0)
+    equation: str
+    terms: dict
+    interpretation: str = 'its words'
+    summary: str = 'what it adds'
+    alike_equations: tuple = ()
+
+    @property
+    def leading(self) -> str:
+        return next(iter(self.terms))
+
+
+def _found(equation: str, *terms: str) -> _Found:
+    return _Found(equation, dict.fromkeys(terms, 1.0))
 
 
 @pytest.mark.parametrize('best, other, first', [
@@ -232,11 +245,18 @@ def test_of_equations_the_records_do_not_tell_apart_the_likeliest_kind_leads(bes
                                                                               first):
     """Where a correction of another equation earns its place and the best does not explain
     the held-out data clearly better, the likelier kind leads: a sensor's own reading, then
-    a balance equation, then a crosstalk into a sensor (``readings.likeliest_first``)."""
-    from pneumatic_servo.analysis.diagnosis.readings import likeliest_first
-    found = [_Found(*best), _Found(*other)]
+    a balance equation, then a crosstalk into a sensor (``readings.likeliest_first``); and
+    the one that leads says the other (``readings.equations_alike``)."""
+    from pneumatic_servo.analysis.diagnosis.readings import equations_alike, likeliest_first
+    found = [_found(*best), _found(*other)]
     ordered = likeliest_first(found, claims=lambda d: True, beats_clearly=lambda d, c: False)
     assert ordered[0].equation == first and len(ordered) == 2
-    # beaten clearly, or not earning its place, the other does not lead
-    assert likeliest_first(found, lambda d: True, lambda d, c: True)[0] is found[0]
-    assert likeliest_first(found, lambda d: d is found[0], lambda d, c: False)[0] is found[0]
+    said = equations_alike(ordered, lambda d: True, lambda d, c: False)
+    assert said[0].alike_equations == (ordered[1].equation,)
+    assert f'these records do not tell it from what it adds ({ordered[1].equation})' \
+        in said[0].interpretation and 'would tell them apart' in said[0].interpretation
+    # beaten clearly, or not earning its place, the other neither leads nor is said
+    for claims, beats in ((lambda d: True, lambda d, c: True),
+                          (lambda d: d is found[0], lambda d, c: False)):
+        assert likeliest_first(found, claims, beats)[0] is found[0]
+        assert equations_alike(found, claims, beats)[0] is found[0]

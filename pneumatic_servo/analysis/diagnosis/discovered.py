@@ -33,6 +33,10 @@ class Discovered(Candidate):
     #: leading term -> interpretation of corrections of other variables that these records
     #: fit as well (:func:`alike`)
     fits_as_well: dict = field(default_factory=dict)
+    #: other equations whose corrections also earn their place and that it does not explain
+    #: the held-out data clearly better than: these records cannot tell the equations apart
+    #: (:func:`.readings.equations_alike`)
+    alike_equations: tuple = ()
     #: the variables tested beside it, one by one (:mod:`.dependence`)
     dependence: tuple = ()
     #: whether its own terms are needed beside free functions of the variables said
@@ -68,4 +72,5 @@ class Discovered(Candidate):
                 'depends_on': self.depends_on,
                 'dependence_tests': [t.to_json() for t in self.dependence],
                 'lead_test': self.lead_test.to_json() if self.lead_test else None,
-                'term_shares': self.shares, 'fits_as_well': dict(self.fits_as_well)}
+                'term_shares': self.shares, 'fits_as_well': dict(self.fits_as_well),
+                'alike_equations': list(self.alike_equations)}

@@ -56,7 +56,7 @@ from .discovery import Discovered, correction_host, discover
 from .hosts import host_for, shareable, shared_host
 from .ladder import ladder
 from .options import DiagnoseOptions
-from .readings import likeliest_first
+from .readings import equations_alike, likeliest_first
 from .refit import remainder, restarted
 from .result import Diagnosis, added_by
 from .scoring import relative_fall
@@ -193,7 +193,9 @@ def diagnose(experiments: list[Experiment], config: ModelConfig | None = None,
     if other is not None:
         ranking, found, finding = timed('validation', validated, trial, ranking, found,
                                         finding, other)
-    discovered = found if keep else []
+    # said once, on the corrections as reported
+    discovered = equations_alike(found, lambda d: earns_place(d, trial.options),
+                                 lambda d, c: clearly_better(trial, d, c)) if keep else []
     added = added_by(finding, ranking, discovered, options)
     rungs = timed('ladder', ladder, config, trial.data, added, trial.base, other)
     return Diagnosis(finding, ranking, trial, [e.name for e in experiments],

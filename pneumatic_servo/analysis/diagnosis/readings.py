@@ -1,8 +1,9 @@
 """How a fitted generic correction is read: which of its terms its shape follows
 (:func:`term_spread`), the one lag its lag terms of a reading amount to
 (:func:`equivalent_lag_ms`), and which other readings the records cannot tell from it
-(:func:`alike`, with the record that would: :func:`telling_apart`), and which equation
-leads where the records do not tell two apart (:func:`likeliest_first`)."""
+(:func:`alike`, with the record that would: :func:`telling_apart`), which equation
+leads where the records do not tell two apart (:func:`likeliest_first`), and saying so
+(:func:`equations_alike`)."""
 from __future__ import annotations
 
 import math
@@ -153,6 +154,13 @@ def kind(d) -> int:
     return 0 if set(d.terms) <= {t.name for t in equation.own} else 2
 
 
+def _not_told_apart(found: list, best, claims, beats_clearly) -> list:
+    """The corrections of ``found`` in other equations than ``best``'s that earn their place
+    (``claims``) and that ``best`` does not explain clearly better than (``beats_clearly``)."""
+    return [d for d in found if d.equation != best.equation and claims(d)
+            and not beats_clearly(best, d)]
+
+
 def likeliest_first(found: list, claims, beats_clearly) -> list:
     """``found`` (generic corrections, best first) with the likeliest kind (:func:`kind`)
     first among the best and the corrections of other equations that also earn their place
@@ -160,15 +168,36 @@ def likeliest_first(found: list, claims, beats_clearly) -> list:
     than (``beats_clearly(best, d)``, the candidate-level test): the records do not tell
     those equations apart, so the likelier physics leads, as within a sensor's equation
     its own reading does (:mod:`.discovery`). On held-out sets 9 and 10, five of the nine
-    claims of a wrong equation had the truth's among those not beaten clearly: a chamber's
-    flow read as a crosstalk of the command into the supply reading, a lagging p_b
-    transmitter read as a valve error following the command."""
+    claims of a wrong equation had the truth's among those not beaten clearly, three of a
+    likelier kind: a chamber's flow read as a crosstalk of the command into the supply
+    reading, a rate-limited p_b reading as a valve error following the command."""
     if not found or not claims(found[0]):
         return found
-    best = found[0]
-    tied = [d for d in found[1:] if d.equation != best.equation and kind(d) < kind(best)
-            and claims(d) and not beats_clearly(best, d)]
+    tied = [d for d in _not_told_apart(found, found[0], claims, beats_clearly)
+            if kind(d) < kind(found[0])]
     if not tied:
         return found
     first = min(tied, key=kind)  # the best ranked of the likeliest kind
     return [first, *(d for d in found if d is not first)]
+
+
+def equations_alike(found: list, claims, beats_clearly) -> list:
+    """``found`` with its first correction, where it earns its place, saying the other
+    equations these records cannot tell it from (:func:`_not_told_apart`), with the record
+    that would (:func:`telling_apart`), in ``alike_equations`` and its interpretation. Call
+    once, on the corrections as reported."""
+    if not found or not claims(found[0]):
+        return found
+    best = found[0]
+    others = _not_told_apart(found[1:], best, claims, beats_clearly)
+    if not others:
+        return found
+    mine = TERMS[best.leading].depends_on
+    words = '; or '.join(
+        f'{d.summary} ({d.equation}): {d.interpretation} ('
+        f'{telling_apart(mine, TERMS[d.leading].depends_on)} would tell them apart)'
+        for d in others)
+    said = replace(best, alike_equations=tuple(d.equation for d in others),
+                   interpretation=f'{best.interpretation}; these records do not tell it from '
+                                  f'{words}')
+    return [said, *found[1:]]
