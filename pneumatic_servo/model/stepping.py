@@ -8,7 +8,7 @@ right-hand side inside, as they were until 2026-11-27, each new composition comp
 again: about 5 s of the 7 s a composition took on a fresh machine (a 2-core AMD EPYC). The
 call through the function's address gives the same trajectories and about the same speed
 (``benchmarks/bench_model.py``: one trajectory 368x real time against 386x, a batch of 32
-on two threads 703-787x against 688x).
+on two threads 703-787x against 688x; with its rows in Python threads, 1,043x, idle).
 
 * ``adaptive_interval``: Dormand-Prince 5(4) with error control, the accurate offline
   integrator. Discontinuities are handled by step rejection.
