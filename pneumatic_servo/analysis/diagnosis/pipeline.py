@@ -194,8 +194,7 @@ def diagnose(experiments: list[Experiment], config: ModelConfig | None = None,
         ranking, found, finding = timed('validation', validated, trial, ranking, found,
                                         finding, other)
     # said once, on the corrections as reported
-    discovered = equations_alike(found, lambda d: earns_place(d, trial.options),
-                                 lambda d, c: clearly_better(trial, d, c)) if keep else []
+    discovered = equations_alike(found, *_tie_tests(trial)) if keep else []
     added = added_by(finding, ranking, discovered, options)
     rungs = timed('ladder', ladder, config, trial.data, added, trial.base, other)
     return Diagnosis(finding, ranking, trial, [e.name for e in experiments],
@@ -316,11 +315,17 @@ def validated(trial: Trial, ranking, found, finding, other: Data):
     return ranking, found, finding
 
 
+def _tie_tests(trial: Trial) -> tuple:
+    """(whether a correction earns its place, whether one explains clearly better than
+    another): what says which equations the records do not tell apart (:mod:`.readings`)."""
+    return (lambda d: earns_place(d, trial.options),
+            lambda d, c: clearly_better(trial, d, c))
+
+
 def likelier_first(trial: Trial, found: list) -> list:
     """``found`` with the likeliest kind of correction first among the equations the
     records do not tell apart (:func:`.readings.likeliest_first`)."""
-    return likeliest_first(found, lambda d: earns_place(d, trial.options),
-                           lambda d, c: clearly_better(trial, d, c))
+    return likeliest_first(found, *_tie_tests(trial))
 
 
 def look_for_terms(trial: Trial, base: Baseline, progress=None, reference=None,
