@@ -93,14 +93,13 @@ class Part:
         return len(self.index)
 
 
-def residual_rows(model: Model, parts: list[Part], configs: list[ModelConfig],
-                  start_from: ModelConfig | None = None) -> list[dict[str, np.ndarray]]:
+def residual_rows(model: Model, parts: list[Part], configs: list[ModelConfig]
+                  ) -> list[dict[str, np.ndarray]]:
     """Normalised residuals per config and channel over ``parts``, all configs (one
-    composition) simulated together; non-finite residuals become :data:`FAILED_RESIDUAL`.
-    ``start_from``: every config starts from its start states (:func:`.predict`)."""
+    composition) simulated together; non-finite residuals become :data:`FAILED_RESIDUAL`."""
     rows: list[dict[str, list]] = [dict() for _ in configs]
     for part in parts:
-        preds = predict(model, part.exp, configs, part.plan, start_from=start_from)
+        preds = predict(model, part.exp, configs, part.plan)
         for j, pred in enumerate(preds):
             for ch, scale in part.scales.items():
                 sig = CHANNELS[ch].signal

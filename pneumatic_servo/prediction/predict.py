@@ -33,8 +33,7 @@ def _check(exp: Experiment) -> None:
 
 
 def predict(model: Model, exp: Experiment, configs: list[ModelConfig], plan: Plan | None = None,
-            rtol: float = DEFAULT_RTOL, start_from: ModelConfig | None = None
-            ) -> list[dict[str, np.ndarray]]:
+            rtol: float = DEFAULT_RTOL) -> list[dict[str, np.ndarray]]:
     """Predicted signals of ``exp`` for each config (one composition, ``model``'s), in parallel.
 
     Parameters
@@ -50,12 +49,6 @@ def predict(model: Model, exp: Experiment, configs: list[ModelConfig], plan: Pla
         ignored for a static table, which is solved row by row for steady states.
     rtol : float
         Relative tolerance of the integrator.
-    start_from : ModelConfig, optional
-        Start every config's segments from this config's start states (of the same
-        composition): a screen of small changes to one config then simulates one lead-in
-        per segment, not one per config. The states a lead-in sets that are not measured
-        (gas temperatures, effect states) barely move with a small change; the measured ones
-        are the record's either way.
 
     Returns
     -------
@@ -64,10 +57,10 @@ def predict(model: Model, exp: Experiment, configs: list[ModelConfig], plan: Pla
         :data:`STATE_SIGNALS`; NaN outside the plan's segments). A config whose
         simulation fails gets NaN throughout.
     """
-    return _predict(model, exp, configs, plan, rtol, start_from)[0]
+    return _predict(model, exp, configs, plan, rtol)[0]
 
 
-def _predict(model, exp, configs, plan, rtol, start_from=None):
+def _predict(model, exp, configs, plan, rtol):
     """:func:`predict`, and a function that says why a config's simulation failed."""
     cfgs = [config_for(exp, cfg) for cfg in configs]
     if exp.static:
@@ -78,13 +71,7 @@ def _predict(model, exp, configs, plan, rtol, start_from=None):
     us, pss, params, d_outs = map(list, zip(*(_inputs(model, exp, signals, cfg, plan)
                                               for cfg in cfgs)))
     segs = plan.segments
-    if start_from is None:
-        X0 = start_states(model, exp, signals, cfgs, us, pss, params, segs, plan.lead_s)
-    else:
-        shared = config_for(exp, start_from)
-        u, ps, p, _ = _inputs(model, exp, signals, shared, plan)
-        X0 = np.tile(start_states(model, exp, signals, [shared], [u], [ps], [p], segs,
-                                  plan.lead_s), (len(cfgs), 1))
+    X0 = start_states(model, exp, signals, cfgs, us, pss, params, segs, plan.lead_s)
     win = max(b - a for a, b in segs)
     P = np.repeat(np.array(params), len(segs), axis=0)
     tw = exp.t[:win] - exp.t[0]

@@ -111,13 +111,13 @@ class ScreenedEquation:
 
 def _residuals(model, host, keys, values, parts) -> list[np.ndarray]:
     """Residual vectors over ``parts`` of ``host`` with each key set to its value (one batch,
-    one configuration per key), each started from ``host``'s start states: a correction of
-    screening size barely moves the states a lead-in sets, and the lead-ins were a quarter
-    of the screen's simulation."""
+    one configuration per key), each from its own start states: started from ``host``'s
+    instead (one lead-in per window, not per column, a quarter of the screen's simulation),
+    the screen ranked differently and six studies failed (``docs/diagnosis.md``)."""
     if not keys:
         return []
     configs = [with_values(host, [k], [v]) for k, v in zip(keys, values)]
-    return [stack(r) for r in residual_rows(model, parts, configs, start_from=host)]
+    return [stack(r) for r in residual_rows(model, parts, configs)]
 
 
 def _sensitivities(model, host, keys, steps, parts) -> tuple[np.ndarray, np.ndarray]:
