@@ -14,8 +14,11 @@ control at 1 kHz with laboratory sensors, through the tight integrator):
 """
 from dataclasses import replace
 
+import numpy as np
+import pytest
+
 from pneumatic_servo.analysis.diagnosis import DiagnoseOptions, diagnose
-from pneumatic_servo.analysis.diagnosis.dependence import probe_dependence
+from pneumatic_servo.analysis.diagnosis.dependence import probe_dependence, words
 from pneumatic_servo.analysis.diagnosis.discovery import (
     ScreenedEquation,
     confirm,
@@ -27,6 +30,7 @@ from pneumatic_servo.analysis.diagnosis.verdict import rank
 from pneumatic_servo.effects.corrections import BY_EQUATION, coefficient_name
 from pneumatic_servo.model import ModelConfig
 from pneumatic_servo.model.assembly import Model
+from pneumatic_servo.prediction.inputs import smoothed_signals
 from pneumatic_servo.synth.varied import Record, make_record
 
 RECORD = Record('closed_sine', 1000.0, 10.0, grade='laboratory', controller='smc',
@@ -72,6 +76,14 @@ def test_a_proxy_of_the_speed_is_found_to_depend_on_the_speed():
     assert best.lead_test is not None and not best.lead_test.needed, best.lead_test
     assert best.depends_on == ['velocity'] == best.to_json()['depends_on']
     assert 'its leading term stood for them' in best.interpretation
+    # each variable tried says how far it moved over the records (a variable that barely
+    # moves cannot be said): p_a's span is the record's, in kPa where words show it
+    p_a = next(t for t in best.dependence if t.variable == 'p_a')
+    held = np.concatenate([smoothed_signals(e)['p_a_pa'] for e in trial.data.experiments])
+    assert p_a.span == pytest.approx((held.min(), held.max()))
+    assert p_a.to_json()['span'] == list(p_a.span)
+    assert (f'p_a p = {p_a.p_value:.2g} over {held.min() / 1e3:.3g} to '
+            f'{held.max() / 1e3:.3g} kPa abs') in words(best)
 
 
 def test_a_correction_that_is_the_whole_truth_is_said_to_depend_on_nothing_more():

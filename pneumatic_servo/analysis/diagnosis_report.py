@@ -140,7 +140,7 @@ def _discovered(out_dir: Path, result: Diagnosis) -> list[str]:
            '<p class="note">Each term is fitted through the simulator on the same data and '
            'scored on the same held-out data as the named effects.</p>',
            table(['equation', 'terms (SI, &plusmn; 1 s.e.)', 'held-out error reduction',
-                  'interpretation'], rows, 1, escape_header=False)]
+                  'interpretation'], rows, 1, escape_header=False, prose=(3,))]
     name = _residual_plot(out_dir, result, result.discovered[0])
     if name:
         out.append(img(out_dir, name, 'equation residual'))

@@ -24,14 +24,15 @@ def img(out_dir: Path, name: str, alt: str) -> str:
            f'title="{html.escape(name)}"></p>'
 
 
-def table(header: list[str], rows: list[list], left: int = 1, escape_header: bool = True
-          ) -> str:
-    """A table of cells given as HTML; the first ``left`` columns are left-aligned. The
-    header is escaped unless it holds HTML of its own (``escape_header=False``)."""
+def table(header: list[str], rows: list[list], left: int = 1, escape_header: bool = True,
+          prose: tuple[int, ...] = ()) -> str:
+    """A table of cells given as HTML; the first ``left`` columns, and those in ``prose``
+    (sentences, which read badly right-aligned), are left-aligned. The header is escaped
+    unless it holds HTML of its own (``escape_header=False``)."""
     head = [html.escape(h) if escape_header else h for h in header]
     out = ['<table><tr>' + ''.join(f'<th>{h}</th>' for h in head) + '</tr>']
     for row in rows:
-        cells = [f'<td class="l">{c}</td>' if i < left else f'<td>{c}</td>'
+        cells = [f'<td class="l">{c}</td>' if i < left or i in prose else f'<td>{c}</td>'
                  for i, c in enumerate(row)]
         out.append('<tr>' + ''.join(cells) + '</tr>')
     return '\n'.join(out) + '</table>'

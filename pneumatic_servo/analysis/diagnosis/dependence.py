@@ -47,11 +47,12 @@ depend on (or replaces its leading term's variables), and says why.
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, replace
 
 from ...effects.corrections import BY_EQUATION
 from ...effects.terms import BY_NAME as TERMS
-from ...effects.terms import PROBED, probe_spans
+from ...effects.terms import PROBE_SPANS, PROBED, probe_spans
 from ...fitting.problem import with_values
 from ...model.assembly import Model
 from ...model.config import ModelConfig
@@ -80,11 +81,17 @@ class DependenceTest:
     depends: bool = False
     #: the round of the forward selection it was tried in (1: beside the correction alone)
     round: int = 1
+    #: (least, largest) value of the variable over the records [SI], the span its free
+    #: function covered: a variable that barely moves over the records is not said, whatever
+    #: the correction depends on (closed-loop holds keep the chamber pressures within a few
+    #: per cent), so the words say how far each one moved
+    span: tuple[float, float] | None = None
 
     def to_json(self) -> dict:
         return {'variable': self.variable, 'p_value': self.p_value,
                 'size_in_floor': self.size_in_floor, 'level': self.level,
-                'depends': self.depends, 'round': self.round}
+                'depends': self.depends, 'round': self.round,
+                'span': None if self.span is None else list(self.span)}
 
 
 @dataclass(frozen=True)
@@ -158,6 +165,8 @@ def probe_dependence(trial: Trial, found: Discovered) -> Discovered:
             current = fits[best.variable]  # the correction and the probes said so far
         if best is None or len(left) == 1:
             break
+    spans = probed_spans(trial.data, found.config)
+    tests = [replace(t, span=spans.get(t.variable)) for t in tests]
     said = [t for t in tests if t.depends]
     text = found.interpretation + ''.join(
         f'; it also depends on {_words(t.variable)}: a free function of it beside the '
@@ -179,6 +188,7 @@ def words(found: Discovered) -> str:
     rounds = sorted({t.round for t in found.dependence})
     tried = '; then on top of it: '.join(', '.join(
         f'{t.variable} p = {t.p_value:.2g}' + (' (said)' if t.depends else '')
+        + ('' if t.span is None else f' over {_span_words(t.variable, t.span)}')
         for t in found.dependence if t.round == r) for r in rounds)
     lead = found.lead_test
     return (f'depends on {", ".join(found.depends_on) or "nothing that varies"}; a free '
@@ -188,13 +198,38 @@ def words(found: Discovered) -> str:
                 f'{lead.p_value:.2g} ({"needed" if lead.needed else "not needed"})'))
 
 
+#: how a span in each SI unit of :data:`PROBED` is shown: (unit shown, factor from SI)
+#: (the command, the one variable in volts, is read about the valve's null)
+_SHOWN = {'rad': ('deg', 180.0 / math.pi), 'Pa': ('kPa abs', 1e-3),
+          'V': ("V about the valve's null", 1.0)}
+
+
+def _span_words(variable: str, span: tuple[float, float]) -> str:
+    """``span`` of ``variable`` in the units an engineer reads it in ('583-606 kPa abs')."""
+    unit = next(u for v, _, u, _ in PROBED if v == variable)
+    shown, factor = _SHOWN.get(unit, (unit, 1.0))
+    return f'{span[0] * factor:.3g} to {span[1] * factor:.3g} {shown}'
+
+
+def _record_spans(data: Data, config: ModelConfig) -> dict[str, float]:
+    """The span parameters of every probed variable over the time series of ``data``
+    (:func:`~pneumatic_servo.effects.variables.probe_spans`)."""
+    return probe_spans([{**smoothed_signals(e), 't_s': e.t} for e in data.experiments
+                        if not e.static], config.core)
+
+
+def probed_spans(data: Data, config: ModelConfig) -> dict[str, tuple[float, float]]:
+    """Per probed variable the records of ``data`` hold, its (least, largest) value [SI]."""
+    spans = _record_spans(data, config)
+    return {v: (spans[low.name], spans[high.name]) for v, (low, high) in PROBE_SPANS.items()
+            if low.name in spans}
+
+
 def spanned(config: ModelConfig, equation: str, data: Data) -> ModelConfig:
     """``config`` with the free functions of ``equation``'s correction spanning what the
-    time series of ``data`` hold of their variables (:func:`~pneumatic_servo.effects.terms.
-    probe_spans`)."""
+    time series of ``data`` hold of their variables (:func:`_record_spans`)."""
     cls_ = BY_EQUATION[equation]
-    spans = probe_spans([{**smoothed_signals(e), 't_s': e.t} for e in data.experiments
-                         if not e.static], config.core)
+    spans = _record_spans(data, config)
     held = {p.name for p in cls_.params}  # a correction blind to the command has no span of it
     keys = [k for k in spans if k in held]
     return with_values(config, [f'{cls_.name}.{k}' for k in keys], [spans[k] for k in keys])
