@@ -10,7 +10,7 @@ import numpy as np
 CSS = ('body{font-family:sans-serif;max-width:1200px;margin:2em auto;color:#222}'
        'table{border-collapse:collapse;margin:0.5em 0}td,th{border:1px solid #bbb;'
        'padding:3px 8px;font-size:13px;text-align:right}th{background:#eee}'
-       'td.l{text-align:left}img{max-width:100%;border:1px solid #ddd;margin:4px 0}'
+       'td.l,th.l{text-align:left}img{max-width:100%;border:1px solid #ddd;margin:4px 0}'
        '.status{font-size:1.2em;padding:0.6em;margin:0.5em 0;border:2px solid}'
        '.ok{background:#eef6ee;border-color:#5a5}.warn{background:#fff6e0;border-color:#d90}'
        '.bad{background:#fde8e8;border-color:#c33}.worse{color:#c33;font-weight:bold}'
@@ -30,7 +30,8 @@ def table(header: list[str], rows: list[list], left: int = 1, escape_header: boo
     (sentences, which read badly right-aligned), are left-aligned. The header is escaped
     unless it holds HTML of its own (``escape_header=False``)."""
     head = [html.escape(h) if escape_header else h for h in header]
-    out = ['<table><tr>' + ''.join(f'<th>{h}</th>' for h in head) + '</tr>']
+    out = ['<table><tr>' + ''.join(f'<th class="l">{h}</th>' if i in prose else f'<th>{h}</th>'
+                                   for i, h in enumerate(head)) + '</tr>']
     for row in rows:
         cells = [f'<td class="l">{c}</td>' if i < left or i in prose else f'<td>{c}</td>'
                  for i, c in enumerate(row)]
