@@ -18,7 +18,13 @@ import numpy as np
 import pytest
 
 from pneumatic_servo.analysis.diagnosis import DiagnoseOptions, diagnose
-from pneumatic_servo.analysis.diagnosis.dependence import probe_dependence, words
+from pneumatic_servo.analysis.diagnosis.dependence import (
+    coverage,
+    least_moved,
+    next_record,
+    probe_dependence,
+    words,
+)
 from pneumatic_servo.analysis.diagnosis.discovery import (
     ScreenedEquation,
     confirm,
@@ -84,6 +90,15 @@ def test_a_proxy_of_the_speed_is_found_to_depend_on_the_speed():
     assert p_a.to_json()['span'] == list(p_a.span)
     assert (f'p_a p = {p_a.p_value:.2g} over {held.min() / 1e3:.3g} to '
             f'{held.max() / 1e3:.3g} kPa abs') in words(best)
+    # and the record that would test further is the one that moves the variable the records
+    # moved over the least share of the rig's range (the speed has no such range)
+    core = best.config.core
+    shares = {t.variable: coverage(t.variable, t.span, core) for t in best.dependence
+              if not t.depends}
+    least = least_moved(best)
+    assert shares.pop('velocity', None) is None and least.variable in shares
+    assert shares[least.variable] == min(shares.values()) < 1.0
+    assert next_record(best).startswith(f'These records moved {least.variable} over ')
 
 
 def test_a_correction_that_is_the_whole_truth_is_said_to_depend_on_nothing_more():

@@ -70,8 +70,11 @@ def test_unlisted_effect_is_located_and_never_misnamed(cls, unlisted):
 def test_the_report_shows_the_learned_shape_with_its_band(unlisted, tmp_path):
     """The correction's 95 % band comes from its coefficients' covariance: the variance of
     each coefficient alone is its squared standard error, and the plot is drawn from it."""
+    import html
+
     import numpy as np
 
+    from pneumatic_servo.analysis.diagnosis.dependence import next_record
     from pneumatic_servo.analysis.diagnosis_report import _term_covariance, write_diagnosis_report
     from pneumatic_servo.effects.corrections import BY_EQUATION
     from pneumatic_servo.synth.unlisted import ArmSpring
@@ -87,7 +90,10 @@ def test_the_report_shows_the_learned_shape_with_its_band(unlisted, tmp_path):
     unused = [names.index(n) for n in names if n not in best.terms]
     assert not np.any(cov[unused])
     write_diagnosis_report(tmp_path, result)
-    assert 'equation_residual.png' in (tmp_path / 'index.html').read_text()
+    page = (tmp_path / 'index.html').read_text()
+    assert 'equation_residual.png' in page
+    # what to do next names the record that would test the dependence further
+    assert html.escape(next_record(best)) in page and 'the rig can reach' in page
     assert (tmp_path / 'equation_residual.png').stat().st_size > 5000
 
 

@@ -19,6 +19,7 @@ import numpy as np
 from ..effects.corrections import BY_EQUATION
 from ..effects.terms import BY_NAME as TERMS
 from .diagnosis import predictions
+from .diagnosis.dependence import next_record
 from .diagnosis.dependence import words as dependence_words
 from .diagnosis.result import Diagnosis
 from .diagnosis.text import HEADLINES
@@ -115,6 +116,9 @@ def _next_steps(result: Diagnosis, applied_to: str | None, emitted_to: str | Non
     elif result.discovered:
         steps.append('Write the discovered correction as a user effect with '
                      '<code>--emit-effect FILE.py</code>.')
+    tested = next_record(result.discovered[0]) if result.discovered else ''
+    if tested:
+        steps.append(html.escape(tested))
     if result.status == 'consistent':
         steps.append('Nothing is missing that this record can show against its prediction '
                      'floor; a longer or richer record (steps, blocked-piston tests) would '

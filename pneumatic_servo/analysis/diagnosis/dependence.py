@@ -53,6 +53,7 @@ from dataclasses import dataclass, replace
 from ...effects.corrections import BY_EQUATION
 from ...effects.terms import BY_NAME as TERMS
 from ...effects.terms import PROBE_SPANS, PROBED, probe_spans
+from ...effects.variables import RIG_RANGES
 from ...fitting.problem import with_values
 from ...model.assembly import Model
 from ...model.config import ModelConfig
@@ -209,6 +210,41 @@ def _span_words(variable: str, span: tuple[float, float]) -> str:
     unit = next(u for v, _, u, _ in PROBED if v == variable)
     shown, factor = _SHOWN.get(unit, (unit, 1.0))
     return f'{span[0] * factor:.3g} to {span[1] * factor:.3g} {shown}'
+
+
+def coverage(variable: str, span: tuple[float, float], core: dict) -> float | None:
+    """The share [1] of the range a rig with ``core`` can move ``variable`` over
+    (:data:`~pneumatic_servo.effects.variables.RIG_RANGES`) that ``span`` covers, at most 1;
+    None for a variable without one."""
+    if variable not in RIG_RANGES:
+        return None
+    low, high = RIG_RANGES[variable](core)
+    return min(1.0, (span[1] - span[0]) / (high - low))
+
+
+def least_moved(found: Discovered) -> DependenceTest | None:
+    """Of the variables tried beside ``found`` and not said, the one the records moved over
+    the smallest share of the rig's range (None where there is none): a record that moves
+    it more would test it."""
+    core = found.config.core
+    left = [(c, t) for t in found.dependence if not t.depends and t.span is not None
+            for c in [coverage(t.variable, t.span, core)] if c is not None]
+    return min(left, key=lambda ct: ct[0], default=(None, None))[1]
+
+
+def next_record(found: Discovered) -> str:
+    """The record that would test further what ``found`` depends on, in a sentence ('' where
+    no variable with a range was tried)."""
+    test = least_moved(found)
+    if test is None:
+        return ''
+    core = found.config.core
+    share = coverage(test.variable, test.span, core)
+    reach = _span_words(test.variable, RIG_RANGES[test.variable](core))
+    return (f'These records moved {test.variable} over {_span_words(test.variable, test.span)}'
+            f', {100 * share:.0f} % of the {reach} the rig can reach: a record that moves it '
+            f'over more of that range would test whether the correction depends on it (here '
+            f'p = {test.p_value:.2g}).')
 
 
 def _record_spans(data: Data, config: ModelConfig) -> dict[str, float]:

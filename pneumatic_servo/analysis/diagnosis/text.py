@@ -5,6 +5,7 @@ and a user's script print the same thing.
 """
 from __future__ import annotations
 
+from .dependence import next_record
 from .dependence import words as dependence_words
 from .result import Diagnosis
 
@@ -90,6 +91,9 @@ def print_discovered(result: Diagnosis, out=print) -> None:
         out(f'  {"":<20} -> {d.interpretation}')
         if d.dependence:
             out(f'  {"":<20} -> {dependence_words(d)}')
+            tested = next_record(d)
+            if tested:
+                out(f'  {"":<20} -> {tested}')
 
 
 def print_floor(result: Diagnosis, out=print) -> None:
