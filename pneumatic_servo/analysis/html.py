@@ -29,13 +29,13 @@ def table(header: list[str], rows: list[list], left: int = 1, escape_header: boo
     """A table of cells given as HTML; the first ``left`` columns, and those in ``prose``
     (sentences, which read badly right-aligned), are left-aligned. The header is escaped
     unless it holds HTML of its own (``escape_header=False``)."""
+    def cell(tag: str, i: int, content) -> str:
+        return f'<{tag} class="l">{content}</{tag}>' if i < left or i in prose else \
+            f'<{tag}>{content}</{tag}>'
     head = [html.escape(h) if escape_header else h for h in header]
-    out = ['<table><tr>' + ''.join(f'<th class="l">{h}</th>' if i in prose else f'<th>{h}</th>'
-                                   for i, h in enumerate(head)) + '</tr>']
+    out = ['<table><tr>' + ''.join(cell('th', i, h) for i, h in enumerate(head)) + '</tr>']
     for row in rows:
-        cells = [f'<td class="l">{c}</td>' if i < left or i in prose else f'<td>{c}</td>'
-                 for i, c in enumerate(row)]
-        out.append('<tr>' + ''.join(cells) + '</tr>')
+        out.append('<tr>' + ''.join(cell('td', i, c) for i, c in enumerate(row)) + '</tr>')
     return '\n'.join(out) + '</table>'
 
 

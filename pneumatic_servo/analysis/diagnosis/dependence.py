@@ -206,7 +206,7 @@ _SHOWN = {'rad': ('deg', 180.0 / math.pi), 'Pa': ('kPa abs', 1e-3),
 
 
 def _span_words(variable: str, span: tuple[float, float]) -> str:
-    """``span`` of ``variable`` in the units an engineer reads it in ('583-606 kPa abs')."""
+    """``span`` of ``variable`` in the units an engineer reads it in ('583 to 606 kPa abs')."""
     unit = next(u for v, _, u, _ in PROBED if v == variable)
     shown, factor = _SHOWN.get(unit, (unit, 1.0))
     return f'{span[0] * factor:.3g} to {span[1] * factor:.3g} {shown}'
@@ -227,9 +227,10 @@ def least_moved(found: Discovered) -> DependenceTest | None:
     the smallest share of the rig's range (None where there is none): a record that moves
     it more would test it."""
     core = found.config.core
-    left = [(c, t) for t in found.dependence if not t.depends and t.span is not None
-            for c in [coverage(t.variable, t.span, core)] if c is not None]
-    return min(left, key=lambda ct: ct[0], default=(None, None))[1]
+    shares = {t: coverage(t.variable, t.span, core) for t in found.dependence
+              if not t.depends and t.span is not None}
+    left = [t for t, share in shares.items() if share is not None]
+    return min(left, key=shares.get) if left else None
 
 
 def next_record(found: Discovered) -> str:
