@@ -108,6 +108,8 @@ def test_a_correction_that_is_the_whole_truth_is_said_to_depend_on_nothing_more(
     assert best.dependence and not any(t.depends for t in best.dependence)
     assert best.lead_test is None  # nothing said: its own terms are not put in question
     assert best.depends_on == ['angle'] and 'also depends' not in best.interpretation
+    # the JSON says which record would test it further, as the CLI and the report do
+    assert result.to_json()['discovered'][0]['next_record'] == next_record(best) != ''
 
 
 def test_the_test_can_be_skipped():

@@ -7,6 +7,7 @@ from ...errors import ConfigError
 from ...model.config import ModelConfig
 from .candidates import Candidate
 from .criteria import Departures, earns_place
+from .dependence import next_record
 from .status import Finding
 from .trial import Trial
 
@@ -70,7 +71,8 @@ class Diagnosis:
                 'ranking': [{'rank': i + 1, 'earns_place': earns_place(c, options),
                              **c.to_json()} for i, c in enumerate(self.ranking)],
                 'discovered': [{'rank': i + 1, 'earns_place': earns_place(d, options),
-                                **d.to_json()} for i, d in enumerate(self.discovered)],
+                                **d.to_json(), 'next_record': next_record(d)}
+                               for i, d in enumerate(self.discovered)],
                 'partial_fits': list(self.finding.partial),
                 'ambiguous_with': list(self.ambiguous_with),
                 'suggested_experiment': self.suggested_experiment,
