@@ -39,14 +39,20 @@ PROBED = (('angle', 'the shaft angle', 'rad', (0.0, 3.3)),
           ('p_a', 'the chamber a pressure', 'Pa', (101325.0, 701325.0)),
           ('p_b', 'the chamber b pressure', 'Pa', (101325.0, 701325.0)),
           ('command', 'the valve command', 'V', (-5.0, 5.0)))
+
+
+def _atmosphere_to_supply(core: dict) -> tuple[float, float]:
+    """[Pa] the range a chamber pressure can take on a rig with ``core``."""
+    return core['atmospheric_pressure_pa'], core['supply_pressure_pa']
+
+
 #: the range [SI] (low, high) over which a rig can move each probed variable, from its core
 #: parameters: the stroke, atmosphere to the supply, and the valve's 0-10 V input (the
 #: output gate's clamp) about its null; the speed has none (the valve's flow limits it, not
 #: a parameter). A dependence test over a small share of it tested little (``dependence``)
 RIG_RANGES = {
     'angle': lambda core: (0.0, core['stroke_rad']),
-    'p_a': lambda core: (core['atmospheric_pressure_pa'], core['supply_pressure_pa']),
-    'p_b': lambda core: (core['atmospheric_pressure_pa'], core['supply_pressure_pa']),
+    'p_a': _atmosphere_to_supply, 'p_b': _atmosphere_to_supply,
     'command': lambda core: (-core['valve_null_voltage_v'], 10.0 - core['valve_null_voltage_v'])}
 #: the span of each probed variable's free function, (low, high): fixed parameters of a
 #: correction that offers its knots (:attr:`Variable.param`), named with their unit

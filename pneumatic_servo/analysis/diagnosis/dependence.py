@@ -140,7 +140,8 @@ def probe_dependence(trial: Trial, found: Discovered) -> Discovered:
         return found
     # the correction and base as fitted, the rest at 0, each free function over the span the
     # record holds of its variable
-    host = spanned(correction_host(found.config), found.equation, trial.data)
+    spans = record_spans(trial.data, found.config)
+    host = spanned(correction_host(found.config), found.equation, spans)
     model = Model(host)
     level = trial.levels.candidate / len(tried)
     tests, current = [], found
@@ -166,8 +167,8 @@ def probe_dependence(trial: Trial, found: Discovered) -> Discovered:
             current = fits[best.variable]  # the correction and the probes said so far
         if best is None or len(left) == 1:
             break
-    spans = probed_spans(trial.data, found.config)
-    tests = [replace(t, span=spans.get(t.variable)) for t in tests]
+    ends = variable_spans(spans)
+    tests = [replace(t, span=ends.get(t.variable)) for t in tests]
     said = [t for t in tests if t.depends]
     text = found.interpretation + ''.join(
         f'; it also depends on {_words(t.variable)}: a free function of it beside the '
@@ -248,25 +249,24 @@ def next_record(found: Discovered) -> str:
             f'p = {test.p_value:.2g}).')
 
 
-def _record_spans(data: Data, config: ModelConfig) -> dict[str, float]:
+def record_spans(data: Data, config: ModelConfig) -> dict[str, float]:
     """The span parameters of every probed variable over the time series of ``data``
     (:func:`~pneumatic_servo.effects.variables.probe_spans`)."""
     return probe_spans([{**smoothed_signals(e), 't_s': e.t} for e in data.experiments
                         if not e.static], config.core)
 
 
-def probed_spans(data: Data, config: ModelConfig) -> dict[str, tuple[float, float]]:
-    """Per probed variable the records of ``data`` hold, its (least, largest) value [SI]."""
-    spans = _record_spans(data, config)
+def variable_spans(spans: dict[str, float]) -> dict[str, tuple[float, float]]:
+    """Per probed variable in the span parameters ``spans`` (:func:`record_spans`), its
+    (least, largest) value over the records [SI]."""
     return {v: (spans[low.name], spans[high.name]) for v, (low, high) in PROBE_SPANS.items()
             if low.name in spans}
 
 
-def spanned(config: ModelConfig, equation: str, data: Data) -> ModelConfig:
+def spanned(config: ModelConfig, equation: str, spans: dict[str, float]) -> ModelConfig:
     """``config`` with the free functions of ``equation``'s correction spanning what the
-    time series of ``data`` hold of their variables (:func:`_record_spans`)."""
+    records hold of their variables (``spans``, :func:`record_spans`)."""
     cls_ = BY_EQUATION[equation]
-    spans = _record_spans(data, config)
     held = {p.name for p in cls_.params}  # a correction blind to the command has no span of it
     keys = [k for k in spans if k in held]
     return with_values(config, [f'{cls_.name}.{k}' for k in keys], [spans[k] for k in keys])
