@@ -77,22 +77,35 @@ class ForkedCli:
         self.outputs = Path(tempfile.mkdtemp(prefix='forked_cli_'))
 
     def _start(self) -> subprocess.Popen:
+        self._pending = b''  # reply bytes read from the server and not yet returned
         return subprocess.Popen([sys.executable, '-c', SERVER], env=self.env, text=True,
                                 stdin=subprocess.PIPE, stdout=subprocess.PIPE)
 
     def _reply(self, timeout: float) -> dict:
-        if not select.select([self.server.stdout], [], [], timeout)[0]:
-            raise TimeoutError(f'no answer in {timeout:g} s')
-        line = self.server.stdout.readline()
-        if not line:
-            raise RuntimeError(f'the CLI server ended (exit {self.server.wait()})')
+        """The server's next reply line. Read from the pipe's descriptor with a buffer of
+        our own: a buffered ``readline`` can take both of a fast call's replies (pid and rc)
+        at once, and a ``select`` on the descriptor would then wait for a line already read."""
+        deadline = time.monotonic() + timeout
+        while b'\n' not in self._pending:
+            left = deadline - time.monotonic()
+            if left <= 0 or not select.select([self.server.stdout], [], [], left)[0]:
+                raise TimeoutError(f'no answer in {timeout:g} s')
+            chunk = os.read(self.server.stdout.fileno(), 4096)
+            if not chunk:
+                raise RuntimeError(f'the CLI server ended (exit {self.server.wait()})')
+            self._pending += chunk
+        line, self._pending = self._pending.split(b'\n', 1)
         return json.loads(line)
 
-    def run(self, *argv, cwd, timeout: float = 300.0) -> subprocess.CompletedProcess:
+    def run(self, *argv, cwd, timeout: float = 300.0,
+            settle: float = 0.0) -> subprocess.CompletedProcess:
+        """``settle`` (s): wait this long before reading the replies, so that a fast call's
+        two replies are both in the pipe when the first is read."""
         out, err = self.outputs / 'stdout', self.outputs / 'stderr'
         self.server.stdin.write(json.dumps({'argv': [str(a) for a in argv], 'cwd': str(cwd),
                                             'out': str(out), 'err': str(err)}) + '\n')
         self.server.stdin.flush()
+        time.sleep(settle)
         pid = self._reply(30.0)['pid']
         try:
             rc = self._reply(timeout)['rc']

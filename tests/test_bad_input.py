@@ -388,6 +388,16 @@ def test_bad_input_is_one_line_exit_2_and_leaves_nothing(case, argv, words, outp
         assert not (tmp_path / out).exists(), out
 
 
+def test_a_fast_calls_two_replies_are_both_read(files, forked, tmp_path):
+    """The harness itself: a call that fails in milliseconds has both of its replies (pid,
+    exit code) in the pipe by the time the first is read. They are both read at once; a
+    buffered ``readline`` under a ``select`` once left the second waiting 300 s for a line
+    it already held (a flaky ``fifo_csv`` case, whose child had long exited)."""
+    proc = forked.run('compare', files['fifo_csv'], cwd=tmp_path, timeout=20,
+                      settle=3.0)
+    assert proc.returncode == 2 and 'named pipe' in proc.stderr, proc.stderr
+
+
 def test_yaml_numbers_without_a_dot_are_numbers(tmp_path):
     """5e-6, 1e-8 and 7e5, as every engineer writes them, are read as numbers."""
     cfg = tmp_path / 'rig.yaml'
