@@ -13,13 +13,14 @@ from __future__ import annotations
 import contextlib
 import json
 import os
-import select
 import signal
 import subprocess
 import sys
 import tempfile
 import time
 from pathlib import Path
+
+from pneumatic_servo.pipes import PipeLines
 
 SERVER = r'''
 import atexit, faulthandler, json, os, signal, sys, traceback
@@ -77,24 +78,18 @@ class ForkedCli:
         self.outputs = Path(tempfile.mkdtemp(prefix='forked_cli_'))
 
     def _start(self) -> subprocess.Popen:
-        self._pending = b''  # reply bytes read from the server and not yet returned
-        return subprocess.Popen([sys.executable, '-c', SERVER], env=self.env, text=True,
-                                stdin=subprocess.PIPE, stdout=subprocess.PIPE)
+        server = subprocess.Popen([sys.executable, '-c', SERVER], env=self.env, text=True,
+                                  stdin=subprocess.PIPE, stdout=subprocess.PIPE)
+        # its replies, read as PipeLines reads them: a fast call's two come at once
+        self._lines = PipeLines(server.stdout)
+        return server
 
     def _reply(self, timeout: float) -> dict:
-        """The server's next reply line. Read from the pipe's descriptor with a buffer of
-        our own: a buffered ``readline`` can take both of a fast call's replies (pid and rc)
-        at once, and a ``select`` on the descriptor would then wait for a line already read."""
-        deadline = time.monotonic() + timeout
-        while b'\n' not in self._pending:
-            left = deadline - time.monotonic()
-            if left <= 0 or not select.select([self.server.stdout], [], [], left)[0]:
-                raise TimeoutError(f'no answer in {timeout:g} s')
-            chunk = os.read(self.server.stdout.fileno(), 4096)
-            if not chunk:
-                raise RuntimeError(f'the CLI server ended (exit {self.server.wait()})')
-            self._pending += chunk
-        line, self._pending = self._pending.split(b'\n', 1)
+        line = self._lines.next(timeout)
+        if line is None:
+            raise TimeoutError(f'no answer in {timeout:g} s')
+        if not line:
+            raise RuntimeError(f'the CLI server ended (exit {self.server.wait()})')
         return json.loads(line)
 
     def run(self, *argv, cwd, timeout: float = 300.0,

@@ -5,8 +5,8 @@ those inside functions, points to the importer's own package or a lower layer.
       -> {identification, analysis, control} -> {io, rig} -> {synth, fleet, testing, workflow}
       -> monitor -> ros -> cli
 
-(``_jit``, ``errors``, ``jsonable`` and ``__version__`` are below everything, then ``files``;
-``smoothing`` sits with physics; ``experiment``, the data type every layer above the model
+(``_jit``, ``errors``, ``jsonable``, ``text``, ``pipes`` and ``__version__`` are below
+everything, then ``files``; ``smoothing`` sits with physics; ``experiment``, the data type every layer above the model
 passes around, sits with the model.)
 """
 import ast
@@ -15,7 +15,7 @@ from pathlib import Path
 import pneumatic_servo
 
 LAYERS = (
-    ('', '_jit', 'errors', '__version__', 'jsonable', 'text'),
+    ('', '_jit', 'errors', '__version__', 'jsonable', 'text', 'pipes'),
     ('files',),
     ('physics', 'smoothing'),
     ('effects',),

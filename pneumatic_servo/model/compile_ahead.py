@@ -17,10 +17,11 @@ from __future__ import annotations
 
 import atexit
 import json
-import select
 import subprocess
 import sys
 import time
+
+from ..pipes import PipeLines
 
 #: [s] longest wait for the helper to finish one composition before compiling here. Only a
 #: hung helper costs it (one that fails ends its output at once); it is long because a slow
@@ -29,13 +30,14 @@ import time
 WAIT_S = 600.0
 
 _helper: subprocess.Popen | None = None
+_lines: PipeLines | None = None  # the helper's output: the names it has compiled
 _pending: set[str] = set()
 
 
 def start(jobs: list[tuple[str, dict]]) -> None:
     """Have a helper process compile ``jobs`` (kernel module name, model config as a dict),
     in order; returns at once. One helper at a time: while one runs, this does nothing."""
-    global _helper
+    global _helper, _lines
     if not jobs or (_helper is not None and _helper.poll() is None):
         return
     try:
@@ -44,6 +46,7 @@ def start(jobs: list[tuple[str, dict]]) -> None:
             stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
         _helper.stdin.write(json.dumps([config for _, config in jobs]))
         _helper.stdin.close()
+        _lines = PipeLines(_helper.stdout)
     except OSError:  # no process to be had: this one compiles
         stop()
         return
@@ -56,9 +59,7 @@ def wait(name: str) -> None:
     most :data:`WAIT_S`; then it is stopped, and this process compiles)."""
     deadline = time.monotonic() + WAIT_S
     while name in _pending:
-        left = deadline - time.monotonic()
-        ready = left > 0 and select.select([_helper.stdout], [], [], left)[0]
-        line = _helper.stdout.readline() if ready else ''
+        line = _lines.next(max(deadline - time.monotonic(), 0.0))
         if not line:  # the helper ended, failed or took too long
             stop()
             return
@@ -68,11 +69,11 @@ def wait(name: str) -> None:
 @atexit.register
 def stop() -> None:
     """Stop the helper, if one runs (what it compiled so far stays in the cache)."""
-    global _helper
+    global _helper, _lines
     if _helper is not None:
         if _helper.poll() is None:
             _helper.kill()
         _helper.wait()
         _helper.stdout.close()
-    _helper = None
+    _helper = _lines = None
     _pending.clear()
