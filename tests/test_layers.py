@@ -6,8 +6,8 @@ those inside functions, points to the importer's own package or a lower layer.
       -> monitor -> ros -> cli
 
 (``_jit``, ``errors``, ``jsonable``, ``text``, ``pipes`` and ``__version__`` are below
-everything, then ``files``; ``smoothing`` sits with physics; ``experiment``, the data type every layer above the model
-passes around, sits with the model.)
+everything, then ``files``; ``smoothing`` sits with physics; ``experiment``, the data type
+every layer above the model passes around, sits with the model.)
 """
 import ast
 from pathlib import Path
