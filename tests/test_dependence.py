@@ -21,6 +21,7 @@ from pneumatic_servo.analysis.diagnosis import DiagnoseOptions, diagnose
 from pneumatic_servo.analysis.diagnosis.dependence import (
     coverage,
     least_moved,
+    moved_share,
     next_record,
     probe_dependence,
     words,
@@ -34,9 +35,12 @@ from pneumatic_servo.analysis.diagnosis.interpret import depends_on
 from pneumatic_servo.analysis.diagnosis.pipeline import make_trial, prepare
 from pneumatic_servo.analysis.diagnosis.verdict import rank
 from pneumatic_servo.effects.corrections import BY_EQUATION, coefficient_name
+from pneumatic_servo.effects.variables import BY_VARIABLE, RIG_RANGES, apart_span
 from pneumatic_servo.model import ModelConfig
 from pneumatic_servo.model.assembly import Model
 from pneumatic_servo.prediction.inputs import smoothed_signals
+from pneumatic_servo.synth.designs import DESIGNS, make_experiment
+from pneumatic_servo.synth.plan import next_designs
 from pneumatic_servo.synth.varied import Record, make_record
 
 RECORD = Record('closed_sine', 1000.0, 10.0, grade='laboratory', controller='smc',
@@ -110,6 +114,38 @@ def test_a_correction_that_is_the_whole_truth_is_said_to_depend_on_nothing_more(
     assert best.depends_on == ['angle'] and 'also depends' not in best.interpretation
     # the JSON says which record would test it further, as the CLI and the report do
     assert result.to_json()['discovered'][0]['next_record'] == next_record(best) != ''
+    # and which designs would, best first, each moving the variable further than these
+    # records did: a torque shows only where the shaft moves, so no held-piston design
+    least = least_moved(best)
+    plans = next_designs(best)
+    assert plans and [d.share for d in plans] == sorted((d.share for d in plans), reverse=True)
+    core = best.config.core
+    for d in plans:
+        assert d.variable == least.variable and d.now == moved_share(least, core) < d.share
+        assert DESIGNS[d.design].circuit == 'servo' and d.design in d.words()
+    # the first design, generated on the fitted model, moves the variable at least that far
+    # (its plain span, read from the record's own signal, holds the span apart from others)
+    record = make_experiment(best.config, plans[0].design, seed=0)
+    signal = smoothed_signals(record)[BY_VARIABLE[least.variable].signal]
+    low, high = RIG_RANGES[least.variable](core)
+    assert np.ptp(signal) >= plans[0].share * (high - low) * (1 - 1e-9)
+
+
+def test_a_variable_that_mirrors_another_is_not_moved_apart_from_it():
+    """What a record moved a variable over apart from another: nothing where it mirrors
+    it (p_a against p_b through a four-way valve's sine), all of its span where they move
+    independently."""
+    core = ModelConfig.paper().core
+    t = np.linspace(0.0, 10.0, 5001)
+    p_b = 4e5 + 1e5 * np.sin(2.0 * np.pi * t)
+    mirrored = {'t_s': t, 'p_a_pa': 8e5 - p_b, 'p_b_pa': p_b}
+    apart = {'t_s': t, 'p_a_pa': 4e5 + 1e5 * np.sin(2.0 * np.pi * 0.37 * t), 'p_b_pa': p_b}
+    assert apart_span([mirrored], core, 'p_a', ['p_b']) < 1.0  # [Pa], of a 200 kPa span
+    assert apart_span([mirrored], core, 'p_a', []) == pytest.approx(2e5, rel=1e-3)
+    assert apart_span([apart], core, 'p_a', ['p_b']) > 0.8 * 2e5
+    # two records that each mirror p_b, about different sums, move p_a apart from it
+    shifted = {**mirrored, 'p_a_pa': 7e5 - p_b}
+    assert apart_span([mirrored, shifted], core, 'p_a', ['p_b']) > 0.9e5
 
 
 def test_the_test_can_be_skipped():

@@ -73,6 +73,13 @@ def test_memory_walkthrough_unexplained_shape_closed_form_emitted_error_falls(tm
     assert -0.09 < first['terms']['command_direction'] < -0.03
     assert data['ladder'][-1]['overall'] <= 0.5 * data['ladder'][0]['overall']
     assert (tmp_path / 'report' / 'equation_residual.png').stat().st_size > 5000
+    # the designs that would test its dependence further, in the JSON, printed and on the page
+    plans = data['next_designs']
+    assert plans and all(d['now'] < d['share'] <= 1.0 for d in plans), plans
+    assert 'records that would test further what the first correction' in proc.stdout
+    words = f"{plans[0]['design']} would move {plans[0]['variable']}"
+    assert words in proc.stdout
+    assert words in (tmp_path / 'report' / 'index.html').read_text()
     source = (tmp_path / 'hysteresis.py').read_text()
     assert 'states = (State(' in source  # the command's memory is the effect's own state
     runs = {}

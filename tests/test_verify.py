@@ -200,11 +200,17 @@ def test_cli_identify_and_generate(tmp_path):
                 'stribeck_friction.coulomb_friction_n', 'orifice_flow.flow_coefficient_p0'):
         assert cfg.get(key) == pytest.approx(truth.get(key), rel=0.05), key
     assert 'friction' in json.loads((tmp_path / 'id.json').read_text())
-    code, out, err = cli('generate', '--list')
-    assert code == 0 and 'heat_transfer' in out and 'sine_2hz' in out
+    code, out_list, err = cli('generate', '--list')
+    assert code == 0 and 'heat_transfer' in out_list and 'sine_2hz' in out_list
     code, out, err = cli('generate', tmp_path / 'lib', '--designs', 'flow_0.6MPa')
     assert code == 0, err
     assert read_experiment(tmp_path / 'lib' / 'flow_0.6MPa.csv').metadata['synthetic']
     assert 'SYNTHETIC' in (tmp_path / 'lib' / 'README.md').read_text()
     code, out, err = cli('generate', tmp_path / 'lib', '--designs', 'flow_0.6MPa')
     assert code == 2 and '--force' in one_line_error(err, 'generate')
+    # a design beyond the library, as diagnose may name it for the record to make next
+    assert 'blocked_steps' in out_list and 'not in the library' in out_list
+    code, out, err = cli('generate', tmp_path / 'more', '--designs', 'blocked_steps')
+    assert code == 0, err
+    assert read_experiment(tmp_path / 'more' / 'blocked_steps').metadata['synthetic']
+    assert '| `blocked_steps/` | blocked |' in (tmp_path / 'more' / 'README.md').read_text()

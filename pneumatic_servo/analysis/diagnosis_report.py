@@ -98,7 +98,8 @@ def _refit_note(tests: dict) -> list[str]:
             f'correction must beat). The floor\'s mean squares were raised by {factors}.</p>']
 
 
-def _next_steps(result: Diagnosis, applied_to: str | None, emitted_to: str | None) -> str:
+def _next_steps(result: Diagnosis, applied_to: str | None, emitted_to: str | None,
+                next_designs=()) -> str:
     steps = []
     added = result.added
     if added is not None and applied_to:
@@ -118,7 +119,9 @@ def _next_steps(result: Diagnosis, applied_to: str | None, emitted_to: str | Non
                      '<code>--emit-effect FILE.py</code>.')
     tested = next_record(result.discovered[0]) if result.discovered else ''
     if tested:
-        steps.append(html.escape(tested))
+        steps.append(html.escape(tested) + ''.join(
+            f'<br>&rarr; {html.escape(d.words())}'
+            for d in next_designs))
     if result.status == 'consistent':
         steps.append('Nothing is missing that this record can show against its prediction '
                      'floor; a longer or richer record (steps, blocked-piston tests) would '
@@ -241,16 +244,18 @@ def _ladder_table(ladder: list[dict]) -> str:
 
 
 def write_diagnosis_report(out_dir, result: Diagnosis, applied_to: str | None = None,
-                           emitted_to: str | None = None) -> Path:
+                           emitted_to: str | None = None, next_designs=()) -> Path:
     """Write the page of ``result`` into ``out_dir`` (created); returns ``index.html``.
 
     ``applied_to`` and ``emitted_to`` name the files ``--apply`` and ``--emit-effect``
-    wrote, so the page says where the fitted model is and what to do next.
+    wrote, so the page says where the fitted model is and what to do next;
+    ``next_designs`` (:class:`~pneumatic_servo.synth.plan.NextDesign`, each with its
+    ``words()``) the designs that would test the correction's dependence further.
     """
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     res = result.to_json()
-    body = _status(result) + [_next_steps(result, applied_to, emitted_to)]
+    body = _status(result) + [_next_steps(result, applied_to, emitted_to, next_designs)]
     body += _tests(res)
     body += _discovered(out_dir, result)
     body.append(f'<p class="note">Experiments: {html.escape(", ".join(res["experiments"]))}. '

@@ -25,6 +25,7 @@ from ..io import read_experiment
 from ..jsonable import dumps
 from ..model.config import ModelConfig
 from ..prediction import DIAGNOSIS_HORIZON_S
+from ..synth.plan import next_designs
 from ..text import comma_list
 from .options import fraction, number, output_dir, output_file, positive_seconds
 
@@ -85,15 +86,19 @@ def run(args) -> int:
     others = [read_experiment(p) for p in args.validate_on]
     result = diagnose(experiments, config, list(args.effects), list(args.free), options,
                       progress=progress, validate_on=others)
+    plans = next_designs(result.discovered[0]) if result.discovered else []
     if not args.quiet:
         text.print_where(result, say)
         text.print_floor(result, say)
         text.print_ranking(result, say)
         text.print_discovered(result, say)
+        print_next_designs(plans, say)
         text.print_ladder(result.ladder, say)
     text.print_verdict(result)
     if args.json:
-        Path(args.json).write_text(dumps(result.to_json(), indent=1))
+        Path(args.json).write_text(dumps({**result.to_json(),
+                                          'next_designs': [d.to_json() for d in plans]},
+                                         indent=1))
         say(f'wrote {args.json}')
     if args.apply:
         if result.added is None:
@@ -106,8 +111,18 @@ def run(args) -> int:
     if args.report:
         applied = args.apply if args.apply and result.added is not None else None
         emitted = args.emit_effect if args.emit_effect and result.discovered else None
-        say(f'wrote {write_diagnosis_report(args.report, result, applied, emitted)}')
+        say(f'wrote {write_diagnosis_report(args.report, result, applied, emitted, plans)}')
     return 0
+
+
+def print_next_designs(plans, out=print) -> None:
+    """The designs that would test the best correction's dependence further
+    (:func:`~pneumatic_servo.synth.plan.next_designs`)."""
+    if plans:
+        out('records that would test further what the first correction depends on (designs '
+            'of `pneumatic-servo generate --list`, simulated on the fitted model):')
+        for d in plans:
+            out(f'  {d.words()}')
 
 
 def emit_effect(result, path: str) -> None:

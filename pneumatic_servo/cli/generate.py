@@ -19,7 +19,7 @@ def add_parser(sub) -> argparse.ArgumentParser:
                        description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument('outdir', metavar='OUTDIR', nargs='?', help='directory to write (e.g. bags/)')
     p.add_argument('--designs', metavar='D1,D2', type=comma_list,
-                   help='only these designs (see --list)')
+                   help="only these designs, or designs beyond the library's (see --list)")
     p.add_argument('--seed', type=number(0, 2**32 - 1, integer=True), default=None,
                    help='base noise seed (default 2019)')
     p.add_argument('--config', metavar='CFG',
@@ -34,8 +34,9 @@ def run(args) -> int:
     from ..errors import ConfigError
     from ..synth.designs import DESIGNS, LIBRARY
     if args.list:
-        for name in LIBRARY:
-            print(f'{name:<20} {DESIGNS[name].circuit:<12} {DESIGNS[name].summary}')
+        for name, design in DESIGNS.items():
+            extra = '' if name in LIBRARY else ' (not in the library: give it in --designs)'
+            print(f'{name:<20} {design.circuit:<12} {design.summary}{extra}')
         return 0
     if not args.outdir:
         raise ConfigError('give OUTDIR (e.g. bags/), or --list')

@@ -156,6 +156,37 @@ def array_namespace(signals: dict, core: dict, variables, params: dict | None = 
 PROBE_SPAN_TAIL = 0.0
 
 
+def apart_span(records: list[dict], core: dict, variable: str, given: list[str]
+               ) -> float | None:
+    """[SI] How far ``records`` (as :func:`probe_spans` takes them) moved probed ``variable``
+    apart from the probed variables ``given``: the span of what is left of it after its
+    least-squares fit on a cubic in each of them, over the records together; without
+    ``given``, its span. None where no record holds it.
+
+    Why: with a four-way valve p_a mirrors p_b through a sine, and records that move p_a
+    only with p_b cannot tell a correction of one from a correction of the other, however
+    far both moved."""
+    names = [variable, *(g for g in given if g in PROBE_SPANS and g != variable)]
+    used = [BY_VARIABLE[n] for n in names]
+    held = [r for r in records if used[0].signal in r]
+    if not held:
+        return None
+    columns = [np.concatenate([array_namespace(r, core, used)[n] for r in held]) for n in names]
+    rows = np.all(np.isfinite(columns), axis=0)
+    values = columns[0][rows]
+    if not len(values):
+        return None
+    left = values
+    if len(names) > 1:
+        # standardised before the powers, so that the fit is conditioned alike in Pa and rad
+        z = [(c[rows] - c[rows].mean()) / (c[rows].std() or 1.0) for c in columns[1:]]
+        basis = np.column_stack([np.ones(len(left)), *(zi ** k for zi in z for k in (1, 2, 3))])
+        left = values - basis @ np.linalg.lstsq(basis, values, rcond=None)[0]
+    # at most its own span: what a fit leaves can reach further than the values did
+    return float(min(np.ptp(np.quantile(v, (PROBE_SPAN_TAIL, 1.0 - PROBE_SPAN_TAIL)))
+                     for v in (values, left)))
+
+
 def probe_spans(records: list[dict], core: dict) -> dict[str, float]:
     """The span parameters (:data:`PROBE_SPANS`) of each probed variable over ``records``
     (each a record's ``signals`` [SI], as :func:`.terms.term_values` takes them): from its

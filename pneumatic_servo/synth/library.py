@@ -43,7 +43,8 @@ def generate_library(outdir, designs=None, seed: int = DEFAULT_SEED,
     outdir : str or Path
         Target directory (created if missing).
     designs : iterable of str, optional
-        Names from :data:`LIBRARY` (default all).
+        Names from :data:`DESIGNS` (default those of :data:`LIBRARY`): the others are the
+        designs the hidden-effect sets and the record planner (:mod:`.plan`) use.
     seed : int
         Base seed; design i uses ``seed + i`` so records are independent.
     config : ModelConfig, optional
@@ -53,9 +54,9 @@ def generate_library(outdir, designs=None, seed: int = DEFAULT_SEED,
     """
     outdir = Path(outdir)
     names = list(designs) if designs else list(LIBRARY)
-    unknown = [n for n in names if n not in LIBRARY]
+    unknown = [n for n in names if n not in DESIGNS]
     if unknown:
-        raise ConfigError(f'unknown design(s) {", ".join(unknown)}; use {", ".join(LIBRARY)}')
+        raise ConfigError(f'unknown design(s) {", ".join(unknown)}; use {", ".join(DESIGNS)}')
     cfg = config or synthetic_rig()
     sensors = sensors or SensorModel()
     outdir.mkdir(parents=True, exist_ok=True)
@@ -65,7 +66,7 @@ def generate_library(outdir, designs=None, seed: int = DEFAULT_SEED,
                 raise ConfigError(f'{p} exists; pass --force to replace the library records')
     model = Model(cfg)
     written = []
-    for i, name in enumerate(LIBRARY):
+    for i, name in enumerate(_seed_order()):
         if name not in names:
             continue
         design = DESIGNS[name]
@@ -92,6 +93,12 @@ def generate_library(outdir, designs=None, seed: int = DEFAULT_SEED,
     return written
 
 
+def _seed_order() -> list[str]:
+    """Every design in the order of its seed offset: the library's first, with the seeds
+    they always had, then the others."""
+    return [*LIBRARY, *(n for n in DESIGNS if n not in LIBRARY)]
+
+
 def _metadata(exp, seed: int) -> dict:
     """custom_data / sidecar entries: labelled synthetic, how it was made, the truth."""
     m = exp.metadata
@@ -113,7 +120,7 @@ def _metadata(exp, seed: int) -> dict:
 def write_readme(outdir: Path, cfg: ModelConfig, sensors: SensorModel, seed: int) -> Path:
     """``README.md`` of the library: what each record is, how it was made, the truth."""
     rows = []
-    for i, name in enumerate(LIBRARY):
+    for i, name in enumerate(_seed_order()):
         d = DESIGNS[name]
         if d.static:
             fname, fmt = f'{name}.csv', 'CSV (+ .meta.yaml)'

@@ -53,12 +53,11 @@ from dataclasses import dataclass, replace
 from ...effects.corrections import BY_EQUATION
 from ...effects.terms import BY_NAME as TERMS
 from ...effects.terms import PROBE_SPANS, PROBED, probe_spans
-from ...effects.variables import RIG_RANGES
+from ...effects.variables import RIG_RANGES, apart_span
 from ...fitting.problem import with_values
 from ...model.assembly import Model
 from ...model.config import ModelConfig
 from ...prediction.inputs import smoothed_signals
-from .data import Data
 from .discovered import Discovered
 from .discovery import ScreenedEquation, _key, confirm, correction_host
 from .status import gain_over
@@ -87,12 +86,19 @@ class DependenceTest:
     #: the correction depends on (closed-loop holds keep the chamber pressures within a few
     #: per cent), so the words say how far each one moved
     span: tuple[float, float] | None = None
+    #: [SI] how far the records moved it apart from ``apart_from``, the probed variables the
+    #: correction depends on (:func:`~pneumatic_servo.effects.variables.apart_span`): p_a
+    #: moved far with p_b tells a correction of p_a from one of p_b no better than a p_a
+    #: that barely moved
+    apart: float | None = None
+    apart_from: tuple[str, ...] = ()
 
     def to_json(self) -> dict:
         return {'variable': self.variable, 'p_value': self.p_value,
                 'size_in_floor': self.size_in_floor, 'level': self.level,
                 'depends': self.depends, 'round': self.round,
-                'span': None if self.span is None else list(self.span)}
+                'span': None if self.span is None else list(self.span),
+                'apart': self.apart, 'apart_from': list(self.apart_from)}
 
 
 @dataclass(frozen=True)
@@ -140,7 +146,8 @@ def probe_dependence(trial: Trial, found: Discovered) -> Discovered:
         return found
     # the correction and base as fitted, the rest at 0, each free function over the span the
     # record holds of its variable
-    spans = record_spans(trial.data, found.config)
+    records = records_of(trial.data.experiments)
+    spans = probe_spans(records, found.config.core)
     host = spanned(correction_host(found.config), found.equation, spans)
     model = Model(host)
     level = trial.levels.candidate / len(tried)
@@ -180,7 +187,17 @@ def probe_dependence(trial: Trial, found: Discovered) -> Discovered:
                  f'{", ".join(_words(t.variable) for t in said)} (p = {lead.p_value:.2g}, '
                  f'{lead.size_in_floor:.2f} x the prediction floor): it depends on those, '
                  f'and its leading term stood for them')
-    return replace(found, dependence=tuple(tests), lead_test=lead, interpretation=text)
+    tested = replace(found, dependence=tuple(tests), lead_test=lead, interpretation=text)
+    return replace(tested, dependence=tuple(_with_apart(t, tested, records) for t in tests))
+
+
+def _with_apart(test: DependenceTest, found: Discovered, records: list[dict]
+                ) -> DependenceTest:
+    """``test`` with how far ``records`` moved its variable apart from the probed variables
+    ``found`` depends on."""
+    given = tuple(v for v in found.depends_on if v in PROBE_SPANS and v != test.variable)
+    return replace(test, apart=apart_span(records, found.config.core, test.variable,
+                                          list(given)), apart_from=given)
 
 
 def words(found: Discovered) -> str:
@@ -223,12 +240,23 @@ def coverage(variable: str, span: tuple[float, float], core: dict) -> float | No
     return min(1.0, (span[1] - span[0]) / (high - low))
 
 
+def moved_share(test: DependenceTest, core: dict) -> float | None:
+    """The share [1] of the rig's range over which the records moved ``test``'s variable
+    apart from the variables the correction depends on (its span's share where that was not
+    measured); None for a variable without a range."""
+    share = coverage(test.variable, test.span, core)
+    if share is None or test.apart is None:
+        return share
+    low, high = RIG_RANGES[test.variable](core)
+    return min(share, test.apart / (high - low))
+
+
 def least_moved(found: Discovered) -> DependenceTest | None:
     """Of the variables tried beside ``found`` and not said, the one the records moved over
-    the smallest share of the rig's range (None where there is none): a record that moves
-    it more would test it."""
+    the smallest share of the rig's range apart from those it depends on (None where there
+    is none): a record that moves it more would test it."""
     core = found.config.core
-    shares = {t: coverage(t.variable, t.span, core) for t in found.dependence
+    shares = {t: moved_share(t, core) for t in found.dependence
               if not t.depends and t.span is not None}
     left = [t for t, share in shares.items() if share is not None]
     return min(left, key=shares.get) if left else None
@@ -241,23 +269,28 @@ def next_record(found: Discovered) -> str:
     if test is None:
         return ''
     core = found.config.core
-    share = coverage(test.variable, test.span, core)
+    share, apart = coverage(test.variable, test.span, core), moved_share(test, core)
     reach = _span_words(test.variable, RIG_RANGES[test.variable](core))
-    return (f'These records moved {test.variable} over {_span_words(test.variable, test.span)}'
-            f', {100 * share:.0f} % of the {reach} the rig can reach: a record that moves it '
-            f'over more of that range would test whether the correction depends on it (here '
-            f'p = {test.p_value:.2g}).')
+    moved = (f'These records moved {test.variable} over '
+             f'{_span_words(test.variable, test.span)}, {100 * share:.0f} % of the {reach} '
+             'the rig can reach')
+    if apart < share / 2:  # it moved, but with what the correction already depends on
+        others = ' and '.join(test.apart_from)
+        return (f'{moved}, and {100 * apart:.0f} % of it apart from {others}: a record '
+                f'that moves {test.variable} apart from {others} would test whether the '
+                f'correction depends on it (here p = {test.p_value:.2g}).')
+    return (f'{moved}: a record that moves it over more of that range would test whether '
+            f'the correction depends on it (here p = {test.p_value:.2g}).')
 
 
-def record_spans(data: Data, config: ModelConfig) -> dict[str, float]:
-    """The span parameters of every probed variable over the time series of ``data``
-    (:func:`~pneumatic_servo.effects.variables.probe_spans`)."""
-    return probe_spans([{**smoothed_signals(e), 't_s': e.t} for e in data.experiments
-                        if not e.static], config.core)
+def records_of(experiments) -> list[dict]:
+    """The time series among ``experiments``, smoothed, as the probed variables are read from
+    them (:func:`~pneumatic_servo.effects.variables.array_namespace`)."""
+    return [{**smoothed_signals(e), 't_s': e.t} for e in experiments if not e.static]
 
 
 def variable_spans(spans: dict[str, float]) -> dict[str, tuple[float, float]]:
-    """Per probed variable in the span parameters ``spans`` (:func:`record_spans`), its
+    """Per probed variable in the span parameters ``spans`` (:func:`.probe_spans`), its
     (least, largest) value over the records [SI]."""
     return {v: (spans[low.name], spans[high.name]) for v, (low, high) in PROBE_SPANS.items()
             if low.name in spans}
@@ -265,7 +298,7 @@ def variable_spans(spans: dict[str, float]) -> dict[str, tuple[float, float]]:
 
 def spanned(config: ModelConfig, equation: str, spans: dict[str, float]) -> ModelConfig:
     """``config`` with the free functions of ``equation``'s correction spanning what the
-    records hold of their variables (``spans``, :func:`record_spans`)."""
+    records hold of their variables (``spans``, :func:`.probe_spans`)."""
     cls_ = BY_EQUATION[equation]
     held = {p.name for p in cls_.params}  # a correction blind to the command has no span of it
     keys = [k for k in spans if k in held]
