@@ -18,10 +18,10 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from ..analysis.diagnosis.dependence import least_moved, moved_share, records_of
+from ..analysis.diagnosis.dependence import coverage, least_moved, moved_share, records_of
 from ..analysis.diagnosis.discovered import Discovered
 from ..effects.corrections import BY_EQUATION
-from ..effects.variables import RIG_RANGES, apart_span
+from ..effects.variables import apart_span
 from ..errors import SimulationError
 from ..model.assembly import Model
 from .designs import DESIGNS, make_experiment
@@ -63,7 +63,6 @@ def next_designs(found: Discovered, seed: int = 0) -> list[NextDesign]:
         return []
     core = found.config.core
     now = moved_share(test, core)
-    low, high = RIG_RANGES[test.variable](core)
     model = Model(found.config)
     out = []
     for name, design in DESIGNS.items():
@@ -74,7 +73,8 @@ def next_designs(found: Discovered, seed: int = 0) -> list[NextDesign]:
         except SimulationError:  # a fitted model outside what a design can drive
             continue
         span = apart_span(records_of([record]), core, test.variable, list(test.apart_from))
-        if span is not None and span / (high - low) > now:
+        share = None if span is None else coverage(test.variable, (0.0, span), core)
+        if share is not None and share > now:
             out.append(NextDesign(name, design.summary, test.variable, test.apart_from,
-                                  min(1.0, span / (high - low)), now))
+                                  share, now))
     return sorted(out, key=lambda d: -d.share)[:SHOWN]

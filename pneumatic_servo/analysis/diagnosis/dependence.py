@@ -247,8 +247,7 @@ def moved_share(test: DependenceTest, core: dict) -> float | None:
     share = coverage(test.variable, test.span, core)
     if share is None or test.apart is None:
         return share
-    low, high = RIG_RANGES[test.variable](core)
-    return min(share, test.apart / (high - low))
+    return min(share, coverage(test.variable, (0.0, test.apart), core))
 
 
 def least_moved(found: Discovered) -> DependenceTest | None:
