@@ -30,8 +30,13 @@ simulate), the record counts as holding no evidence and the row keeps the error.
 wrong name it asks whether the truth, fitted beside the name, explains the held-out data
 clearly better than the name (where it does not, the record cannot tell them apart).
 
+``--plan`` asks, of each record with the right equation and the wrong dependence, what
+the record ``diagnose`` asks for next does (:mod:`pneumatic_servo.synth.plan`): the first
+design planned on the fitted model is generated with the truth hidden, through the record's
+sensors, and the two records are diagnosed and judged together.
+
 Run: ``.venv/bin/python benchmarks/bench_open_world.py [--set MODULE] [--only NAME]
-[--json PATH] [--oracle]``.
+[--json PATH] [--oracle] [--plan]``.
 """
 from __future__ import annotations
 
@@ -74,17 +79,47 @@ def truth_earns_place(cls, experiment) -> bool:
     return result.verdict == cls.name and result.status in ('explained', 'partly_explained')
 
 
+def _values(cls, rec) -> dict:
+    """``cls``'s parameters in a record of ``rec``'s rate."""
+    values = cls.defaults()
+    if 'sample_interval_s' in values:
+        values['sample_interval_s'] = 1.0 / rec.rate_hz
+    return values
+
+
 def make(cls, rec):
     """The record, generated with ``cls`` registered (unregistered again after)."""
     from dataclasses import replace
 
     from pneumatic_servo import effects
     from pneumatic_servo.synth.varied import make_record
-    values = cls.defaults()
-    if 'sample_interval_s' in values:
-        values['sample_interval_s'] = 1.0 / rec.rate_hz
     with effects.registered(cls):
-        return make_record(replace(rec, effects={cls.name: values}))
+        return make_record(replace(rec, effects={cls.name: _values(cls, rec)}))
+
+
+def with_plan(cls, rec, experiment, result) -> dict:
+    """Where the dependence was wrong: the first design ``diagnose`` plans for the best
+    correction (:func:`~pneumatic_servo.synth.plan.next_designs`), generated with ``cls``
+    hidden through ``rec``'s sensors, and the judgement of ``experiment`` diagnosed with it;
+    ``{}`` where no design is planned."""
+    from pneumatic_servo import effects
+    from pneumatic_servo.analysis.diagnosis import diagnose
+    from pneumatic_servo.synth.designs import make_experiment
+    from pneumatic_servo.synth.hidden import hidden_config
+    from pneumatic_servo.synth.plan import next_designs
+    plans = next_designs(result.discovered[0])
+    if not plans:
+        return {}
+    with effects.registered(cls):
+        planned = make_experiment(hidden_config({cls.name: _values(cls, rec)}),
+                                  plans[0].design, seed=rec.seed + 100, sensors=rec.sensors())
+    again = judge(cls, diagnose([experiment, planned]))
+    return {'design': plans[0].design, 'variable': plans[0].variable,
+            'share': plans[0].share, 'now': plans[0].now,
+            **{k: again[k] for k in ('status', 'equation', 'leading', 'right_equation',
+                                     'right_dependence', 'wrong_name')},
+            'depends_on': [t['variable'] for t in again.get('dependence_tests', ())
+                           if t['depends']]}
 
 
 def _overlaps(term: str, where, result) -> bool:
@@ -200,6 +235,35 @@ def summary(rows: list[dict]) -> dict:
     return out
 
 
+def _plan_words(plan: dict | None) -> str:
+    if plan is None:
+        return ''
+    if not plan:
+        return '\n    planned: no design moves the variable further'
+    return (f"\n    planned {plan['design']} for {plan['variable']} ({100 * plan['now']:.0f} -> "
+            f"{100 * plan['share']:.0f} %): {plan['status']} {plan['equation']} "
+            f"{plan['leading']} +{plan['depends_on']} equation "
+            f"{'right' if plan['right_equation'] else 'wrong'}, dependence "
+            f"{'right' if plan['right_dependence'] else 'wrong'}"
+            + (' WRONG NAME' if plan['wrong_name'] else ''))
+
+
+def plan_summary(rows: list[dict]) -> dict:
+    """Print and return what the planned records did on the records whose dependence was
+    wrong (right equation)."""
+    tried = [r['with_plan'] for r in rows if 'with_plan' in r]
+    planned = [p for p in tried if p]
+    out = {'records': len(tried), 'planned': len(planned),
+           'right_dependence': sum(p['right_dependence'] for p in planned),
+           'right_equation': sum(p['right_equation'] for p in planned),
+           'wrong_names': sum(p['wrong_name'] for p in planned)}
+    print(f"  with the planned record, of the {len(tried)} records with the right equation and "
+          f"the wrong dependence ({len(planned)} with a design): the right dependence on "
+          f"{out['right_dependence']}, the equation kept on {out['right_equation']}, "
+          f"confident wrong names {out['wrong_names']}")
+    return out
+
+
 def truth_beats_name(cls, experiment, name: str) -> bool:
     """Whether ``cls``, registered and fitted beside the named effect ``name`` that the
     diagnosis gave (no discovery), explains the held-out data clearly better than it (the
@@ -223,6 +287,9 @@ def main(argv=None) -> int:
     ap.add_argument('--json', help='write every row as JSON')
     ap.add_argument('--oracle', action='store_true',
                     help='where discovery is wrong, whether the true effect would earn its place')
+    ap.add_argument('--plan', action='store_true',
+                    help='where the equation is right and the dependence wrong, diagnose again '
+                         'with the record diagnose plans next (generated with the truth)')
     ap.add_argument('--set', default='open_world_set',
                     help='the module of benchmarks/ whose SET to run: open_world_set (default), '
                          'or held_out_set, held_out_set_2, held_out_set_3, held_out_set_4 '
@@ -236,8 +303,11 @@ def main(argv=None) -> int:
         for loop, rec in records(index):
             t0 = time.perf_counter()
             experiment = make(cls, rec)
+            result = diagnose([experiment])
             row = {'effect': cls.__name__, 'record': loop, 'integrator': rec.integrator,
-                   **judge(cls, diagnose([experiment]))}
+                   **judge(cls, result)}
+            if args.plan and row['right_equation'] and not row['right_dependence']:
+                row['with_plan'] = with_plan(cls, rec, experiment, result)
             row['seconds'] = time.perf_counter() - t0
             if args.oracle:  # a record discovery gets right holds the evidence
                 try:
@@ -262,8 +332,11 @@ def main(argv=None) -> int:
                   + (f"  truth earns its place: {row['truth_earns_place']}" if args.oracle
                      else '')
                   + (f"; beats the name clearly: {row['truth_beats_name']}"
-                     if 'truth_beats_name' in row else ''), flush=True)
+                     if 'truth_beats_name' in row else '')
+                  + _plan_words(row.get('with_plan')), flush=True)
     figures = summary(rows)
+    if args.plan:
+        figures['with_plan'] = plan_summary(rows)
     if args.json:
         Path(args.json).write_text(json.dumps({'rows': rows, **figures}, indent=1,
                                               default=str))
