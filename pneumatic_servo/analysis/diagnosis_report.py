@@ -119,9 +119,8 @@ def _next_steps(result: Diagnosis, applied_to: str | None, emitted_to: str | Non
                      '<code>--emit-effect FILE.py</code>.')
     tested = next_record(result.discovered[0]) if result.discovered else ''
     if tested:
-        steps.append(html.escape(tested) + ''.join(
-            f'<br>&rarr; {html.escape(d.words())}'
-            for d in next_designs))
+        steps.append(html.escape(tested) + ''.join(f'<br>&rarr; {html.escape(d.words())}'
+                                                   for d in next_designs))
     if result.status == 'consistent':
         steps.append('Nothing is missing that this record can show against its prediction '
                      'floor; a longer or richer record (steps, blocked-piston tests) would '

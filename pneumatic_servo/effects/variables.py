@@ -171,7 +171,8 @@ def apart_span(records: list[dict], core: dict, variable: str, given: list[str]
     held = [r for r in records if used[0].signal in r]
     if not held:
         return None
-    columns = [np.concatenate([array_namespace(r, core, used)[n] for r in held]) for n in names]
+    spaces = [array_namespace(r, core, used) for r in held]
+    columns = [np.concatenate([ns[n] for ns in spaces]) for n in names]
     rows = np.all(np.isfinite(columns), axis=0)
     values = columns[0][rows]
     if not len(values):
