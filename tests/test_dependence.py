@@ -40,7 +40,7 @@ from pneumatic_servo.model import ModelConfig
 from pneumatic_servo.model.assembly import Model
 from pneumatic_servo.prediction.inputs import smoothed_signals
 from pneumatic_servo.synth.designs import DESIGNS, make_experiment
-from pneumatic_servo.synth.plan import next_designs
+from pneumatic_servo.synth.plan import GAIN, next_designs
 from pneumatic_servo.synth.varied import Record, make_record
 
 RECORD = Record('closed_sine', 1000.0, 10.0, grade='laboratory', controller='smc',
@@ -121,7 +121,8 @@ def test_a_correction_that_is_the_whole_truth_is_said_to_depend_on_nothing_more(
     assert plans and [d.share for d in plans] == sorted((d.share for d in plans), reverse=True)
     core = best.config.core
     for d in plans:
-        assert d.variable == least.variable and d.now == moved_share(least, core) < d.share
+        assert d.variable == least.variable and d.now == moved_share(least, core)
+        assert d.now + GAIN <= d.share <= 1.0
         assert DESIGNS[d.design].circuit == 'servo' and d.design in d.words()
     # the first design, generated on the fitted model, moves the variable at least that far
     # (its plain span, read from the record's own signal, holds the span apart from others)

@@ -28,6 +28,11 @@ from .designs import DESIGNS, make_experiment
 
 #: designs shown, best first
 SHOWN = 3
+#: [1] the share of the rig's range by which a design must move the variable further than
+#: the records did to be shown: one that moves it a little further tests it little better
+#: (on held-out set 11 a mixed closed-loop run was the best for p_b, at 36 % of the range
+#: where the records had 35)
+GAIN = 0.1
 
 
 @dataclass(frozen=True)
@@ -56,8 +61,9 @@ class NextDesign:
 
 def next_designs(found: Discovered, seed: int = 0) -> list[NextDesign]:
     """The designs that would move the variable :func:`least_moved` names for ``found``
-    further than the diagnosed records did, best first (at most :data:`SHOWN`; none where
-    no variable with a range was tried). A design the fitted model cannot run is left out."""
+    over at least :data:`GAIN` more of the rig's range than the diagnosed records did, best
+    first (at most :data:`SHOWN`; none where no variable with a range was tried). A design
+    the fitted model cannot run is left out."""
     test = least_moved(found)
     if test is None:
         return []
@@ -74,7 +80,7 @@ def next_designs(found: Discovered, seed: int = 0) -> list[NextDesign]:
             continue
         span = apart_span(records_of([record]), core, test.variable, list(test.apart_from))
         share = None if span is None else coverage(test.variable, (0.0, span), core)
-        if share is not None and share > now:
+        if share is not None and share >= now + GAIN:
             out.append(NextDesign(name, design.summary, test.variable, test.apart_from,
                                   share, now))
     return sorted(out, key=lambda d: -d.share)[:SHOWN]
