@@ -208,6 +208,7 @@ def test_cli_identify_and_generate(tmp_path):
     assert 'SYNTHETIC' in (tmp_path / 'lib' / 'README.md').read_text()
     code, out, err = cli('generate', tmp_path / 'lib', '--designs', 'flow_0.6MPa')
     assert code == 2 and '--force' in one_line_error(err, 'generate')
+    assert out == ''  # a refused call prints its reason only
     # a design beyond the library, as diagnose may name it for the record to make next
     assert 'blocked_steps' in out_list and 'not in the library' in out_list
     code, out, err = cli('generate', tmp_path / 'more', '--designs', 'blocked_steps')

@@ -44,7 +44,6 @@ def run(args) -> int:
     from ..synth.library import DEFAULT_SEED, generate_library
     designs = list(args.designs) if args.designs else None
     cfg = ModelConfig.load(args.config) if args.config else None
-    print(f'generating into {args.outdir}:')
     written = generate_library(args.outdir, designs, DEFAULT_SEED if args.seed is None
                                else args.seed, cfg, overwrite=args.force)
     print(f'wrote {len(written)} records, truth.yaml and README.md in {args.outdir}')

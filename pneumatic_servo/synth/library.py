@@ -64,6 +64,8 @@ def generate_library(outdir, designs=None, seed: int = DEFAULT_SEED,
         for p in _paths(outdir, name, DESIGNS[name].static):
             if p.exists() and not overwrite:
                 raise ConfigError(f'{p} exists; pass --force to replace the library records')
+    if log:  # after the checks: a refused call prints only its reason
+        log(f'generating into {outdir}:')
     model = Model(cfg)
     written = []
     for i, name in enumerate(_seed_order()):
