@@ -103,6 +103,17 @@ def test_a_proxy_of_the_speed_is_found_to_depend_on_the_speed():
     assert shares.pop('velocity', None) is None and least.variable in shares
     assert shares[least.variable] == min(shares.values()) < 1.0
     assert next_record(best).startswith(f'These records moved {least.variable} over ')
+    # a variable the records moved only with one the correction depends on is named so:
+    # its share is what they moved it over apart from that one
+    width = least.span[1] - least.span[0]
+    mirrored = replace(least, apart=0.01 * width, apart_from=('velocity',))
+    held = replace(best, dependence=tuple(mirrored if t is least else t
+                                          for t in best.dependence))
+    assert least_moved(held) is mirrored
+    assert moved_share(mirrored, core) == pytest.approx(0.01 * shares[least.variable])
+    assert (f'and {100 * 0.01 * shares[least.variable]:.0f} % of it apart from velocity: a '
+            f'record that moves {least.variable} apart from velocity would test'
+            ) in next_record(held)
 
 
 def test_a_correction_that_is_the_whole_truth_is_said_to_depend_on_nothing_more():
