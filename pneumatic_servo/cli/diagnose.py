@@ -86,7 +86,9 @@ def run(args) -> int:
     others = [read_experiment(p) for p in args.validate_on]
     result = diagnose(experiments, config, list(args.effects), list(args.free), options,
                       progress=progress, validate_on=others)
-    plans = next_designs(result.discovered[0]) if result.discovered else []
+    # the designs that would test the first correction further: simulated only where shown
+    shown = not args.quiet or args.json or args.report
+    plans = next_designs(result.discovered[0]) if result.discovered and shown else []
     if not args.quiet:
         text.print_where(result, say)
         text.print_floor(result, say)
