@@ -97,8 +97,8 @@ def test_a_proxy_of_the_speed_is_found_to_depend_on_the_speed():
     # and the record that would test further is the one that moves the variable the records
     # moved over the least share of the rig's range (the speed has no such range)
     core = best.config.core
-    shares = {t.variable: coverage(t.variable, t.span, core) for t in best.dependence
-              if not t.depends}
+    shares = {t.variable: coverage(t.variable, t.span[1] - t.span[0], core)
+              for t in best.dependence if not t.depends}
     least = least_moved(best)
     assert shares.pop('velocity', None) is None and least.variable in shares
     assert shares[least.variable] == min(shares.values()) < 1.0

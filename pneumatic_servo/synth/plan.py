@@ -70,16 +70,17 @@ def next_designs(found: Discovered, seed: int = 0) -> list[NextDesign]:
     core = found.config.core
     now = moved_share(test, core)
     model = Model(found.config)
+    circuits = BY_EQUATION[found.equation].equation.circuits
     out = []
     for name, design in DESIGNS.items():
-        if design.static or design.circuit not in BY_EQUATION[found.equation].equation.circuits:
+        if design.static or design.circuit not in circuits:
             continue
         try:
             record = make_experiment(found.config, name, seed, model=model)
         except SimulationError:  # a fitted model outside what a design can drive
             continue
         span = apart_span(records_of([record]), core, test.variable, list(test.apart_from))
-        share = None if span is None else coverage(test.variable, (0.0, span), core)
+        share = None if span is None else coverage(test.variable, span, core)
         if share is not None and share >= now + GAIN:
             out.append(NextDesign(name, design.summary, test.variable, test.apart_from,
                                   share, now))

@@ -174,8 +174,6 @@ def probe_dependence(trial: Trial, found: Discovered) -> Discovered:
             current = fits[best.variable]  # the correction and the probes said so far
         if best is None or len(left) == 1:
             break
-    ends = variable_spans(spans)
-    tests = [replace(t, span=ends.get(t.variable)) for t in tests]
     said = [t for t in tests if t.depends]
     text = found.interpretation + ''.join(
         f'; it also depends on {_words(t.variable)}: a free function of it beside the '
@@ -188,16 +186,18 @@ def probe_dependence(trial: Trial, found: Discovered) -> Discovered:
                  f'{lead.size_in_floor:.2f} x the prediction floor): it depends on those, '
                  f'and its leading term stood for them')
     tested = replace(found, dependence=tuple(tests), lead_test=lead, interpretation=text)
-    return replace(tested, dependence=tuple(_with_apart(t, tested, records) for t in tests))
+    ends = variable_spans(spans)
+    return replace(tested, dependence=tuple(_with_spans(t, tested, records, ends)
+                                            for t in tests))
 
 
-def _with_apart(test: DependenceTest, found: Discovered, records: list[dict]
-                ) -> DependenceTest:
-    """``test`` with how far ``records`` moved its variable apart from the probed variables
-    ``found`` depends on."""
+def _with_spans(test: DependenceTest, found: Discovered, records: list[dict],
+                ends: dict[str, tuple[float, float]]) -> DependenceTest:
+    """``test`` with its variable's span over ``records`` (``ends``, :func:`variable_spans`)
+    and how far they moved it apart from the probed variables ``found`` depends on."""
     given = tuple(v for v in found.depends_on if v in PROBE_SPANS and v != test.variable)
-    return replace(test, apart=apart_span(records, found.config.core, test.variable,
-                                          list(given)), apart_from=given)
+    return replace(test, span=ends.get(test.variable), apart_from=given,
+                   apart=apart_span(records, found.config.core, test.variable, list(given)))
 
 
 def words(found: Discovered) -> str:
@@ -230,24 +230,22 @@ def _span_words(variable: str, span: tuple[float, float]) -> str:
     return f'{span[0] * factor:.3g} to {span[1] * factor:.3g} {shown}'
 
 
-def coverage(variable: str, span: tuple[float, float], core: dict) -> float | None:
+def coverage(variable: str, width: float, core: dict) -> float | None:
     """The share [1] of the range a rig with ``core`` can move ``variable`` over
-    (:data:`~pneumatic_servo.effects.variables.RIG_RANGES`) that ``span`` covers, at most 1;
-    None for a variable without one."""
+    (:data:`~pneumatic_servo.effects.variables.RIG_RANGES`) that a span ``width`` wide [SI]
+    covers, at most 1; None for a variable without one."""
     if variable not in RIG_RANGES:
         return None
     low, high = RIG_RANGES[variable](core)
-    return min(1.0, (span[1] - span[0]) / (high - low))
+    return min(1.0, width / (high - low))
 
 
 def moved_share(test: DependenceTest, core: dict) -> float | None:
     """The share [1] of the rig's range over which the records moved ``test``'s variable
     apart from the variables the correction depends on (its span's share where that was not
-    measured); None for a variable without a range."""
-    share = coverage(test.variable, test.span, core)
-    if share is None or test.apart is None:
-        return share
-    return min(share, coverage(test.variable, (0.0, test.apart), core))
+    measured: ``apart`` is never wider than the span); None for a variable without a range."""
+    width = test.span[1] - test.span[0] if test.apart is None else test.apart
+    return coverage(test.variable, width, core)
 
 
 def least_moved(found: Discovered) -> DependenceTest | None:
@@ -268,7 +266,8 @@ def next_record(found: Discovered) -> str:
     if test is None:
         return ''
     core = found.config.core
-    share, apart = coverage(test.variable, test.span, core), moved_share(test, core)
+    share = coverage(test.variable, test.span[1] - test.span[0], core)
+    apart = moved_share(test, core)
     reach = _span_words(test.variable, RIG_RANGES[test.variable](core))
     moved = (f'These records moved {test.variable} over '
              f'{_span_words(test.variable, test.span)}, {100 * share:.0f} % of the {reach} '
