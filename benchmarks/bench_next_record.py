@@ -29,15 +29,26 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 
+def planned_record(found, hidden: dict, rec):
+    """(the first design :func:`~pneumatic_servo.synth.plan.next_designs` plans for
+    ``found``, its record generated with the ``hidden`` effects through ``rec``'s sensors),
+    or None where no design is planned."""
+    from pneumatic_servo.synth.designs import make_experiment
+    from pneumatic_servo.synth.hidden import hidden_config
+    from pneumatic_servo.synth.plan import next_designs
+    plans = next_designs(found)
+    if not plans:
+        return None
+    return plans[0], make_experiment(hidden_config(hidden), plans[0].design,
+                                     seed=rec.seed + 100, sensors=rec.sensors())
+
+
 def case(equation: str, term: str, value: float, label: str, rec) -> dict | None:
     """The case of ``term`` hidden in ``rec``: None where the first diagnosis is not in the
     right equation or misses nothing."""
     from pneumatic_servo.analysis.diagnosis import diagnose
     from pneumatic_servo.effects.corrections import BY_EQUATION, coefficient_name
     from pneumatic_servo.effects.terms import BY_NAME
-    from pneumatic_servo.synth.designs import make_experiment
-    from pneumatic_servo.synth.hidden import hidden_config
-    from pneumatic_servo.synth.plan import next_designs
     from pneumatic_servo.synth.varied import make_record
     hidden = {BY_EQUATION[equation].name: {coefficient_name(term): value}}
     rec = replace(rec, effects=hidden)
@@ -47,14 +58,12 @@ def case(equation: str, term: str, value: float, label: str, rec) -> dict | None
     best = before.discovered[0] if before.discovered else None
     if best is None or best.equation != equation or truth <= set(best.depends_on):
         return None
-    plans = next_designs(best)
+    made = planned_record(best, hidden, rec)
     out = {'term': term, 'record': label, 'equation': equation, 'truth': sorted(truth),
-           'before': list(best.depends_on), 'plan': plans[0].to_json() if plans else None}
-    if not plans:
+           'before': list(best.depends_on), 'plan': made[0].to_json() if made else None}
+    if made is None:
         return out
-    planned = make_experiment(hidden_config(hidden), plans[0].design, seed=rec.seed + 100,
-                              sensors=rec.sensors())
-    after = diagnose([first, planned])
+    after = diagnose([first, made[1]])
     # judged in the right equation only: a variable said of another equation is not the truth's
     best_after = next((d for d in after.discovered[:1] if d.equation == equation), None)
     out.update(equation_after=best_after.equation if best_after else None,

@@ -102,20 +102,18 @@ def with_plan(cls, rec, experiment, result) -> dict:
     correction (:func:`~pneumatic_servo.synth.plan.next_designs`), generated with ``cls``
     hidden through ``rec``'s sensors, and the judgement of ``experiment`` diagnosed with it;
     ``{}`` where no design is planned."""
+    from bench_next_record import planned_record
+
     from pneumatic_servo import effects
     from pneumatic_servo.analysis.diagnosis import diagnose
-    from pneumatic_servo.synth.designs import make_experiment
-    from pneumatic_servo.synth.hidden import hidden_config
-    from pneumatic_servo.synth.plan import next_designs
-    plans = next_designs(result.discovered[0])
-    if not plans:
-        return {}
     with effects.registered(cls):
-        planned = make_experiment(hidden_config({cls.name: _values(cls, rec)}),
-                                  plans[0].design, seed=rec.seed + 100, sensors=rec.sensors())
+        made = planned_record(result.discovered[0], {cls.name: _values(cls, rec)}, rec)
+    if made is None:
+        return {}
+    plan, planned = made
     again = judge(cls, diagnose([experiment, planned]))
-    return {'design': plans[0].design, 'variable': plans[0].variable,
-            'share': plans[0].share, 'now': plans[0].now,
+    return {'design': plan.design, 'variable': plan.variable, 'share': plan.share,
+            'now': plan.now,
             **{k: again[k] for k in ('status', 'equation', 'leading', 'right_equation',
                                      'right_dependence', 'wrong_name')},
             'depends_on': [t['variable'] for t in again.get('dependence_tests', ())
