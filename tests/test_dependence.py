@@ -10,7 +10,10 @@ control at 1 kHz with laboratory sensors, through the tight integrator):
   that proxy, the test must say that the flow also depends on the speed, and that the
   proxy adds nothing beside a free function of the speed (it depends on the speed alone);
 * the weight of an arm (a torque in the sine of the angle), found as itself: the test must
-  say that it depends on nothing more, and it is skipped where the options say so.
+  say that it depends on nothing more, and it is skipped where the options say so;
+* a damping given as a damping over part of the stroke: where the truth damps over all of
+  it, the correction depends on the speed and not on the angle (and p_a, which follows the
+  speed in this loop, is not said beside it); where the truth is that window, on both.
 """
 from dataclasses import replace
 
@@ -141,6 +144,27 @@ def test_a_correction_that_is_the_whole_truth_is_said_to_depend_on_nothing_more(
     signal = smoothed_signals(record)[BY_VARIABLE[least.variable].signal]
     low, high = RIG_RANGES[least.variable](core)
     assert np.ptp(signal) >= plans[0].share * (high - low) * (1 - 1e-9)
+
+
+@pytest.mark.parametrize('truth', ['velocity', 'velocity_in_window_2'])
+def test_a_variable_of_the_leading_term_goes_only_where_the_others_do_without_it(truth):
+    name = BY_EQUATION['moment_balance'].name
+    record = replace(RECORD, seed=33, effects={name: {coefficient_name(truth): -0.02}})
+    trial, window = _given(record, 'moment_balance', 'velocity_in_window_2', -0.01)
+    assert depends_on(window.terms, window.leading) == ['angle', 'velocity']  # before
+    best = probe_dependence(trial, rank([window], trial)[0])
+    assert not any(t.depends for t in best.dependence), [t.to_json() for t in best.dependence]
+    if truth == 'velocity':  # a free function of the speed does as well: not the angle
+        lead = best.lead_test
+        assert (lead.dropped, lead.kept, lead.needed) == ('angle', ('velocity',), False), lead
+        assert best.depends_on == ['velocity'] == best.to_json()['depends_on']
+        assert best.to_json()['lead_test']['dropped'] == 'angle'
+        assert ('it depends on those, not on the shaft angle, which its leading term also '
+                'uses') in best.interpretation
+    else:  # neither variable's free functions do without the other
+        assert best.lead_test is None
+        assert best.depends_on == ['angle', 'velocity']
+        assert 'its own terms add nothing' not in best.interpretation
 
 
 def test_a_variable_that_mirrors_another_is_not_moved_apart_from_it():

@@ -36,6 +36,15 @@ dropped so where a variable was wrongly said beside it (the forward test allows 
 level), or where its own variable adds too little to show beside those said: then that
 variable is missed, and nothing false is said.
 
+Before the forward selection, where the leading term has two or more variables (a damping
+over part of the stroke: the angle and the speed), each of them is put in question the same
+way (:func:`_reduced`): the correction's terms beside free functions of its other variables,
+against those functions alone. Where exactly one variable can so go, the correction depends
+on the others, and the forward selection starts from its terms beside their free functions:
+on held-out sets 11 and 12, three drags over the whole stroke were read as a damping over
+part of it, and on a closed-loop record the window's missing part was said to depend on p_a,
+which follows the speed there.
+
 A linear screen (the knots' sensitivities at the fitted correction, as discovery screens its
 terms) was tried first, to fit only the variables it ranked: fitted together, the knots'
 linearised sensitivities gave estimates far outside their plausible range that cut the
@@ -58,6 +67,7 @@ from ...fitting.problem import with_values
 from ...model.assembly import Model
 from ...model.config import ModelConfig
 from ...prediction.inputs import smoothed_signals
+from . import interpret
 from .discovered import Discovered
 from .discovery import ScreenedEquation, _key, confirm, correction_host
 from .status import gain_over
@@ -113,11 +123,17 @@ class LeadTest:
     size_in_floor: float
     level: float
     needed: bool
+    #: the variables whose free functions the terms were tested beside: those said, or the
+    #: leading term's own but ``dropped`` (with those said); where the terms are not
+    #: needed, the correction depends on these
+    kept: tuple[str, ...] = ()
+    #: the leading term's variable the test left out ('' where it tested all of them)
+    dropped: str = ''
 
     def to_json(self) -> dict:
         return {'lead': self.lead, 'p_value': self.p_value,
                 'size_in_floor': self.size_in_floor, 'level': self.level,
-                'needed': self.needed}
+                'needed': self.needed, 'kept': list(self.kept), 'dropped': self.dropped}
 
 
 def probe_keys(equation: str, variable: str, lead: str = '') -> list[str]:
@@ -137,12 +153,15 @@ def _words(variable: str) -> str:
 
 
 def probe_dependence(trial: Trial, found: Discovered) -> Discovered:
-    """``found`` with the variables it also depends on tested (:class:`DependenceTest`,
-    see the module doc), and its interpretation saying those it does."""
+    """``found`` with what it depends on tested (see the module doc): first whether its
+    leading term's variables can do without one (:func:`_reduced`), then the variables it
+    may also depend on (:class:`DependenceTest`), then whether its own terms are needed
+    beside those said (:class:`LeadTest`); its interpretation says what they found."""
     probes = {v: probe_keys(found.equation, v, found.leading) for v, *_ in PROBED
               if v not in found.depends_on}
     tried = [v for v in probes if probes[v]]
-    if not tried:
+    cuts = _reductions(found)
+    if not tried and not cuts:
         return found
     # the correction and base as fitted, the rest at 0, each free function over the span the
     # record holds of its variable
@@ -150,8 +169,39 @@ def probe_dependence(trial: Trial, found: Discovered) -> Discovered:
     spans = probe_spans(records, found.config.core)
     host = spanned(correction_host(found.config), found.equation, spans)
     model = Model(host)
+    reduced = _reduced(trial, host, model, found, cuts)
+    tests, current = _forward(trial, host, model, found,
+                              found if reduced is None else reduced[1], probes, tried)
+    said = [t for t in tests if t.depends]
+    also = ''.join(
+        f'; it also depends on {_words(t.variable)}: a free function of it beside the '
+        f'correction explains clearly more (p = {t.p_value:.2g}, {t.size_in_floor:.2f} x '
+        'the prediction floor)' for t in said)
+    lead, first, last = None, '', ''
+    if reduced is not None:  # found before the variables added to it
+        lead = reduced[0]
+        first = _lead_words(lead)
+    elif said:
+        lead = _beside(trial, host, model, found, current,
+                       tuple(t.variable for t in said))[0]
+        last = '' if lead.needed else _lead_words(lead)
+    text = found.interpretation + first + also + last
+    tested = replace(found, dependence=tuple(tests), lead_test=lead, interpretation=text)
+    ends = variable_spans(spans)
+    return replace(tested, dependence=tuple(_with_spans(t, tested, records, ends)
+                                            for t in tests))
+
+
+def _forward(trial: Trial, host, model, found: Discovered, start: Discovered,
+             probes: dict[str, list[str]], tried: list[str]
+             ) -> tuple[list[DependenceTest], Discovered]:
+    """The forward selection of the variables ``tried`` beside ``start`` (``found``, or its
+    fit beside free functions of its leading term's variables but one), each with its
+    ``probes`` (see the module doc): the tests, and the fit with the variables said."""
+    if not tried:
+        return [], start
     level = trial.levels.candidate / len(tried)
-    tests, current = [], found
+    tests, current = [], start
     for number in range(1, ROUNDS + 1):
         left = [v for v in tried if v not in {t.variable for t in tests if t.depends}]
         fits = {v: _fitted(trial, host, model, found,
@@ -174,21 +224,16 @@ def probe_dependence(trial: Trial, found: Discovered) -> Discovered:
             current = fits[best.variable]  # the correction and the probes said so far
         if best is None or len(left) == 1:
             break
-    said = [t for t in tests if t.depends]
-    text = found.interpretation + ''.join(
-        f'; it also depends on {_words(t.variable)}: a free function of it beside the '
-        f'correction explains clearly more (p = {t.p_value:.2g}, {t.size_in_floor:.2f} x '
-        'the prediction floor)' for t in said)
-    lead = _lead_tested(trial, host, model, found, current, [t.variable for t in said])
-    if lead is not None and not lead.needed:
-        text += (f'; its own terms add nothing clearly beside free functions of '
-                 f'{", ".join(_words(t.variable) for t in said)} (p = {lead.p_value:.2g}, '
-                 f'{lead.size_in_floor:.2f} x the prediction floor): it depends on those, '
-                 f'and its leading term stood for them')
-    tested = replace(found, dependence=tuple(tests), lead_test=lead, interpretation=text)
-    ends = variable_spans(spans)
-    return replace(tested, dependence=tuple(_with_spans(t, tested, records, ends)
-                                            for t in tests))
+    return tests, current
+
+
+def _lead_words(lead: LeadTest) -> str:
+    """What ``lead`` (its own terms not needed) says, as a clause of the interpretation."""
+    return (f'; its own terms add nothing clearly beside free functions of '
+            f'{", ".join(_words(v) for v in lead.kept)} (p = {lead.p_value:.2g}, '
+            f'{lead.size_in_floor:.2f} x the prediction floor): it depends on those, '
+            + (f'not on {_words(lead.dropped)}, which its leading term also uses'
+               if lead.dropped else 'and its leading term stood for them'))
 
 
 def _with_spans(test: DependenceTest, found: Discovered, records: list[dict],
@@ -325,25 +370,59 @@ def _fitted(trial: Trial, host, model, found: Discovered, start: dict[str, float
                    trial.options)
 
 
-def _lead_tested(trial: Trial, host, model, found: Discovered, richer: Discovered,
-                 said: list[str]) -> LeadTest | None:
-    """The test of ``found``'s own terms beside free functions of the variables ``said``
-    (``richer``: both fitted): the functions are fitted alone, from their values in
-    ``richer``, with ``found``'s terms at zero, and ``richer``'s gain over that fit is
-    tested with ``found``'s terms as the added parameters. None where nothing was said.
+def _reduced(trial: Trial, host, model, found: Discovered,
+             cuts: list[tuple[str, tuple[str, ...]]]) -> tuple[LeadTest, Discovered] | None:
+    """Where ``found``'s leading term has two or more variables, whether its own terms are
+    needed beside free functions of each ``cuts``' others (:func:`_reductions`): (the test,
+    the terms fitted beside those functions) where exactly one of its variables can go,
+    else None.
 
-    Where a variable was said, ``richer`` explains clearly more than ``found``; where
-    ``found``'s terms then add nothing clearly to the functions alone, those explain what
-    ``found`` did, and more. One test, at the candidate level."""
-    if not said:
-        return None
-    knots = [k for v in said for k in probe_keys(found.equation, v)]
+    Each is one test at the candidate level, that the terms add clearly to the free
+    functions alone (:func:`_beside`). A variable of the leading term so goes where its free
+    functions without it explain as much: a damping over part of the stroke whose records
+    show a damping over all of it depends on the speed, not on the angle. It is tested
+    before the variables the correction may also depend on: a window that misses part of
+    the truth left it to another variable (a free function of p_a, which follows the speed
+    in a closed loop, said beside the window; not beside the speed). Where either of two
+    can go, the records cannot tell which the correction depends on, and neither goes (a
+    drag over part of the stroke in closed-loop steps, which move the angle with the
+    speed, was said to depend on the angle alone). A correction that does not depend on a
+    variable of its leading term keeps it (a false statement) with probability at most the
+    level, where the others' free functions can write it; one that does loses it only
+    where its records cannot show it: the variable is then missed, and nothing false is
+    said."""
+    tests = [_beside(trial, host, model, found, found, kept, v) for v, kept in cuts]
+    left = [t for t in tests if not t[0].needed]
+    return left[0] if len(left) == 1 else None
+
+
+def _reductions(found: Discovered) -> list[tuple[str, tuple[str, ...]]]:
+    """(variable, the others) for each variable of ``found``'s leading term (and of the
+    terms that modulate it), where it has two or more and each has a free function in its
+    equation."""
+    lead = interpret.depends_on(found.terms, found.leading)
+    if len(lead) < 2 or not all(probe_keys(found.equation, v) for v in lead):
+        return []
+    return [(v, tuple(u for u in lead if u != v)) for v in lead]
+
+
+def _beside(trial: Trial, host, model, found: Discovered, current: Discovered,
+            kept: tuple[str, ...], dropped: str = '') -> tuple[LeadTest, Discovered]:
+    """The test of ``found``'s own terms beside free functions of the variables ``kept``,
+    and the fit of both: ``current`` where it holds those functions (the variables said),
+    else refitted from it with them at zero. The test is of that fit against the functions
+    fitted alone with ``found``'s terms at zero: the gain's p-value and size, with
+    ``found``'s terms as the added parameters."""
+    knots = [k for v in kept for k in probe_keys(found.equation, v)]
+    both = current if not dropped else _fitted(
+        trial, host, model, found, {**found.params, **dict.fromkeys(knots, 0.0)})
     alone = _fitted(trial, with_values(host, list(found.params), [0.0] * len(found.params)),
-                    model, found, {k: richer.params[k] for k in knots})
-    p_value, size = gain_over(trial, richer, alone, added=richer.n_params - alone.n_params)
+                    model, found, {k: both.params[k] for k in knots})
+    p_value, size = gain_over(trial, both, alone, added=both.n_params - alone.n_params)
     level = trial.levels.candidate
     return LeadTest(found.leading, p_value, size, level,
-                    p_value <= level and size >= trial.options.practical_size)
+                    p_value <= level and size >= trial.options.practical_size, kept,
+                    dropped), both
 
 
 def _rechecked(trial: Trial, host, model, found: Discovered, current: Discovered,

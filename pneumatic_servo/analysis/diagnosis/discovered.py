@@ -39,8 +39,8 @@ class Discovered(Candidate):
     alike_equations: tuple = ()
     #: the variables tested beside it, one by one (:mod:`.dependence`)
     dependence: tuple = ()
-    #: whether its own terms are needed beside free functions of the variables said
-    #: (:class:`.dependence.LeadTest`; None where none was said)
+    #: whether its own terms are needed beside free functions of the variables said, or of
+    #: its leading term's but one (:class:`.dependence.LeadTest`; None where none ran)
     lead_test: object = None
 
     @property
@@ -56,10 +56,12 @@ class Discovered(Candidate):
     def depends_on(self) -> list[str]:
         """The variables the correction depends on: its leading term's, those of the terms
         that make the leading term's size vary (:func:`.interpret.varies_with`), and those a
-        free function of which, beside it, explains clearly more (:mod:`.dependence`); only
-        the latter where its own terms add nothing clearly beside those functions."""
+        free function of which, beside it, explains clearly more (:mod:`.dependence`); where
+        its own terms add nothing clearly beside free functions of other variables (those
+        said, or its leading term's but one, with those said: :class:`.dependence.LeadTest`),
+        those variables instead of its leading term's."""
         dropped = self.lead_test is not None and not self.lead_test.needed
-        used = {*(() if dropped else depends_on(self.terms, self.leading)),
+        used = {*(self.lead_test.kept if dropped else depends_on(self.terms, self.leading)),
                 *(t.variable for t in self.dependence if t.depends)}
         return [v.name for v in VARIABLES if v.name in used]
 
