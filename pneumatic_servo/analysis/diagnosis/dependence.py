@@ -169,7 +169,8 @@ def probe_dependence(trial: Trial, found: Discovered) -> Discovered:
     spans = probe_spans(records, found.config.core)
     host = spanned(correction_host(found.config), found.equation, spans)
     model = Model(host)
-    reduced = _reduced(trial, host, model, found, cuts)
+    cut = _reduced(trial, host, model, found, cuts)
+    reduced = cut[0] if len(cut) == 1 else None
     tests, current = _forward(trial, host, model, found,
                               found if reduced is None else reduced[1], probes, tried)
     said = [t for t in tests if t.depends]
@@ -177,7 +178,7 @@ def probe_dependence(trial: Trial, found: Discovered) -> Discovered:
         f'; it also depends on {_words(t.variable)}: a free function of it beside the '
         f'correction explains clearly more (p = {t.p_value:.2g}, {t.size_in_floor:.2f} x '
         'the prediction floor)' for t in said)
-    lead, first, last = None, '', ''
+    lead, first, last = None, _either_words(cut) if len(cut) > 1 else '', ''
     if reduced is not None:  # found before the variables added to it
         lead = reduced[0]
         first = _lead_words(lead)
@@ -371,11 +372,11 @@ def _fitted(trial: Trial, host, model, found: Discovered, start: dict[str, float
 
 
 def _reduced(trial: Trial, host, model, found: Discovered,
-             cuts: list[tuple[str, tuple[str, ...]]]) -> tuple[LeadTest, Discovered] | None:
+             cuts: list[tuple[str, tuple[str, ...]]]) -> list[tuple[LeadTest, Discovered]]:
     """Where ``found``'s leading term has two or more variables, whether its own terms are
     needed beside free functions of each ``cuts``' others (:func:`_reductions`): (the test,
-    the terms fitted beside those functions) where exactly one of its variables can go,
-    else None.
+    the terms fitted beside those functions) for each of its variables that can go. One
+    goes where it is the only one.
 
     Each is one test at the candidate level, that the terms add clearly to the free
     functions alone (:func:`_beside`). A variable of the leading term so goes where its free
@@ -392,8 +393,17 @@ def _reduced(trial: Trial, host, model, found: Discovered,
     where its records cannot show it: the variable is then missed, and nothing false is
     said."""
     tests = [_beside(trial, host, model, found, found, kept, v) for v, kept in cuts]
-    left = [t for t in tests if not t[0].needed]
-    return left[0] if len(left) == 1 else None
+    return [t for t in tests if not t[0].needed]
+
+
+def _either_words(cut: list[tuple[LeadTest, Discovered]]) -> str:
+    """What the tests of ``cut`` say where several of the leading term's variables can
+    each go, but not all (:func:`_reduced`), as a clause of the interpretation."""
+    beside = ', nor beside those of '.join(', '.join(_words(v) for v in t.kept)
+                                           for t, _ in cut)
+    return (f'; its own terms add nothing clearly beside free functions of {beside}: these '
+            f'records cannot tell which of {" and ".join(_words(t.dropped) for t, _ in cut)} '
+            'it depends on, and none is dropped')
 
 
 def _reductions(found: Discovered) -> list[tuple[str, tuple[str, ...]]]:
