@@ -292,7 +292,7 @@ def main(argv=None) -> int:
                     help='the module of benchmarks/ whose SET to run: open_world_set (default), '
                          'or held_out_set, held_out_set_2, held_out_set_3, held_out_set_4 '
                          '(each written without the vocabulary, run once untuned), '
-                         'held_out_set_5 ... held_out_set_13 (written so, each run once '
+                         'held_out_set_5 ... held_out_set_14 (written so, each run once '
                          'untuned)')
     args = ap.parse_args(argv)
     rows = []
