@@ -124,8 +124,8 @@ class LeadTest:
     level: float
     needed: bool
     #: the variables whose free functions the terms were tested beside: those said, or the
-    #: leading term's own but ``dropped`` (with those said); where the terms are not
-    #: needed, the correction depends on these
+    #: leading term's own but ``dropped``; where the terms are not needed, the correction
+    #: depends on these (and on those said)
     kept: tuple[str, ...] = ()
     #: the leading term's variable the test left out ('' where it tested all of them)
     dropped: str = ''

@@ -58,8 +58,8 @@ class Discovered(Candidate):
         that make the leading term's size vary (:func:`.interpret.varies_with`), and those a
         free function of which, beside it, explains clearly more (:mod:`.dependence`); where
         its own terms add nothing clearly beside free functions of other variables (those
-        said, or its leading term's but one, with those said: :class:`.dependence.LeadTest`),
-        those variables instead of its leading term's."""
+        said, or its leading term's but one: :class:`.dependence.LeadTest`), those variables
+        instead of its leading term's."""
         dropped = self.lead_test is not None and not self.lead_test.needed
         used = {*(self.lead_test.kept if dropped else depends_on(self.terms, self.leading)),
                 *(t.variable for t in self.dependence if t.depends)}
