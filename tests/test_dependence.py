@@ -170,8 +170,8 @@ def test_a_variable_of_the_leading_term_goes_only_where_the_others_do_without_it
         assert (lead.dropped, lead.kept, lead.needed) == ('angle', ('velocity',), False), lead
         assert best.depends_on == ['velocity'] == best.to_json()['depends_on']
         assert best.to_json()['lead_test']['dropped'] == 'angle'
-        assert ('it depends on those, not on the shaft angle, which its leading term also '
-                'uses') in best.interpretation
+        assert ('it depends on those, and the shaft angle, which its leading term also '
+                'uses, adds nothing clearly beside them') in best.interpretation
         return
     # neither goes: none can (the truth's window), or either could and the records cannot
     # tell which

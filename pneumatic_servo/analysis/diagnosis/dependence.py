@@ -233,8 +233,9 @@ def _lead_words(lead: LeadTest) -> str:
     return (f'; its own terms add nothing clearly beside free functions of '
             f'{", ".join(_words(v) for v in lead.kept)} (p = {lead.p_value:.2g}, '
             f'{lead.size_in_floor:.2f} x the prediction floor): it depends on those, '
-            + (f'not on {_words(lead.dropped)}, which its leading term also uses'
-               if lead.dropped else 'and its leading term stood for them'))
+            + (f'and {_words(lead.dropped)}, which its leading term also uses, adds nothing '
+               'clearly beside them' if lead.dropped else 'and its leading term stood for '
+               'them'))
 
 
 def _with_spans(test: DependenceTest, found: Discovered, records: list[dict],
