@@ -23,14 +23,13 @@ import numpy as np
 import pytest
 
 from pneumatic_servo.analysis.diagnosis import DiagnoseOptions, diagnose
-from pneumatic_servo.analysis.diagnosis.dependence import (
+from pneumatic_servo.analysis.diagnosis.coverage import (
     coverage,
     least_moved,
     moved_share,
     next_record,
-    probe_dependence,
-    words,
 )
+from pneumatic_servo.analysis.diagnosis.dependence import probe_dependence, words
 from pneumatic_servo.analysis.diagnosis.discovery import (
     ScreenedEquation,
     confirm,

@@ -74,7 +74,7 @@ def test_the_report_shows_the_learned_shape_with_its_band(unlisted, tmp_path):
 
     import numpy as np
 
-    from pneumatic_servo.analysis.diagnosis.dependence import next_record
+    from pneumatic_servo.analysis.diagnosis.coverage import next_record
     from pneumatic_servo.analysis.diagnosis_report import _term_covariance, write_diagnosis_report
     from pneumatic_servo.effects.corrections import BY_EQUATION
     from pneumatic_servo.synth.unlisted import ArmSpring

@@ -19,7 +19,7 @@ import numpy as np
 from ..effects.corrections import BY_EQUATION
 from ..effects.terms import BY_NAME as TERMS
 from .diagnosis import predictions
-from .diagnosis.dependence import next_record
+from .diagnosis.coverage import next_record
 from .diagnosis.dependence import words as dependence_words
 from .diagnosis.result import Diagnosis
 from .diagnosis.text import HEADLINES

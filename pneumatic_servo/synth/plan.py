@@ -3,7 +3,7 @@ what a discovered correction depends on, each simulated on the fitted model.
 
 The dependence test names the variable tried beside a correction that the records moved
 least, apart from the variables the correction already depends on
-(:func:`~pneumatic_servo.analysis.diagnosis.dependence.least_moved`). Which record would move
+(:func:`~pneumatic_servo.analysis.diagnosis.coverage.least_moved`). Which record would move
 it more is not plain: a four-way valve moves p_a and p_b together through a sine, and a held
 piston moves them apart but shows no torque. So each time-series design of a circuit in which
 the correction's equation acts is run on the fitted model (the correction in it), through
@@ -18,7 +18,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from ..analysis.diagnosis.dependence import coverage, least_moved, moved_share, records_of
+from ..analysis.diagnosis.coverage import coverage, least_moved, moved_share, records_of
 from ..analysis.diagnosis.discovered import Discovered
 from ..effects.corrections import BY_EQUATION
 from ..effects.variables import apart_span

@@ -6,8 +6,8 @@ from dataclasses import dataclass, field
 from ...errors import ConfigError
 from ...model.config import ModelConfig
 from .candidates import Candidate
+from .coverage import next_record
 from .criteria import Departures, earns_place
-from .dependence import next_record
 from .status import Finding
 from .trial import Trial
 

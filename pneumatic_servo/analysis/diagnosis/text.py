@@ -5,7 +5,7 @@ and a user's script print the same thing.
 """
 from __future__ import annotations
 
-from .dependence import next_record
+from .coverage import next_record
 from .dependence import words as dependence_words
 from .result import Diagnosis
 
