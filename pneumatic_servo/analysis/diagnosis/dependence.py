@@ -42,8 +42,9 @@ way (:func:`_reduced`): the correction's terms beside free functions of its othe
 against those functions alone. Where exactly one variable can so go, the correction depends
 on the others, and the forward selection starts from its terms beside their free functions:
 on held-out sets 11 and 12, three drags over the whole stroke were read as a damping over
-part of it, and on a closed-loop record the window's missing part was said to depend on p_a,
-which follows the speed there.
+part of it (the change mended one; in another, either variable could go), and on a
+closed-loop record the window's missing part was said to depend on p_a, which follows the
+speed there.
 
 A linear screen (the knots' sensitivities at the fitted correction, as discovery screens its
 terms) was tried first, to fit only the variables it ranked: fitted together, the knots'
