@@ -13,7 +13,8 @@ variables tried (``+`` added, ``-`` not), and what it is said to depend on again
 truth's variables. Then the counts: variables said that the truth does not depend on (the
 test's false statements; its stated rate is at most the candidate level per correction,
 a fraction of a per cent), the truth's variables missed before and after the test, and the
-leading terms found not needed beside the variables said (and truth variables so dropped).
+leading terms found not needed beside the variables said or beside their own variables but
+one (and truth variables so dropped).
 
 Run: ``.venv/bin/python benchmarks/bench_dependence.py [--only TERM] [--json PATH]``.
 """
@@ -104,7 +105,7 @@ def main(argv=None) -> int:
     for k in ('missed_before', 'missed_after'):
         print(f"  truth variables {k.replace('_', ' ')} the test: "
               f"{sum(len(r[k]) for r in judged)} of {sum(len(r['truth']) for r in judged)}")
-    print(f"  leading terms found not needed beside the variables said: "
+    print(f"  leading terms found not needed beside the variables said or their own but one: "
           f"{sum(r['lead_dropped'] for r in judged)}, dropping a truth variable: "
           f"{sum(len(r['truth_dropped']) for r in judged)}")
     return 0
