@@ -171,6 +171,8 @@ def test_a_variable_of_the_leading_term_goes_only_where_the_others_do_without_it
         assert best.to_json()['lead_test']['dropped'] == 'angle'
         assert ('it depends on those, and the shaft angle, which its leading term also '
                 'uses, adds nothing clearly beside them') in best.interpretation
+        assert (f'its own terms beside free functions of velocity: p = {lead.p_value:.2g} '
+                '(not needed)') in words(best)
         return
     # neither goes: none can (the truth's window), or either could and the records cannot
     # tell which

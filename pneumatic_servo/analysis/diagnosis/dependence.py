@@ -260,8 +260,9 @@ def words(found: Discovered) -> str:
     return (f'depends on {", ".join(found.depends_on) or "nothing that varies"}; a free '
             f'function of each other variable tried beside it (level '
             f'{found.dependence[0].level:.2g}): {tried}' + (
-                '' if lead is None else f'; its own terms beside those said: p = '
-                f'{lead.p_value:.2g} ({"needed" if lead.needed else "not needed"})'))
+                '' if lead is None else f'; its own terms beside free functions of '
+                f'{", ".join(lead.kept)}: p = {lead.p_value:.2g} '
+                f'({"needed" if lead.needed else "not needed"})'))
 
 
 def spanned(config: ModelConfig, equation: str, spans: dict[str, float]) -> ModelConfig:
