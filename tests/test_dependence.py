@@ -177,8 +177,9 @@ def test_a_variable_of_the_leading_term_goes_only_where_the_others_do_without_it
     # neither goes: none can (the truth's window), or either could and the records cannot
     # tell which
     assert best.lead_test is None and best.depends_on == ['angle', 'velocity']
-    either = ('these records cannot tell which of the shaft angle and the shaft speed it '
-              'depends on, and none is dropped')
+    either = ('its own terms add nothing clearly beside free functions of the shaft speed, '
+              'nor beside those of the shaft angle: these records cannot tell whether it '
+              'depends on the shaft angle or on the shaft speed, and none of them is dropped')
     assert (either in best.interpretation) == (goes == 'either'), best.interpretation
     assert ('its own terms add nothing' in best.interpretation) == (goes == 'either')
 

@@ -324,11 +324,11 @@ def _reduced(trial: Trial, host, model, found: Discovered,
 def _either_words(cut: list[tuple[LeadTest, Discovered]]) -> str:
     """What the tests of ``cut`` say where several of the leading term's variables can
     each go, but not all (:func:`_reduced`), as a clause of the interpretation."""
-    beside = ', nor beside those of '.join(', '.join(_words(v) for v in t.kept)
+    beside = ', nor beside those of '.join(' and '.join(_words(v) for v in t.kept)
                                            for t, _ in cut)
+    which = ' or on '.join(_words(t.dropped) for t, _ in cut)
     return (f'; its own terms add nothing clearly beside free functions of {beside}: these '
-            f'records cannot tell which of {" and ".join(_words(t.dropped) for t, _ in cut)} '
-            'it depends on, and none is dropped')
+            f'records cannot tell whether it depends on {which}, and none of them is dropped')
 
 
 def _reductions(found: Discovered) -> list[tuple[str, tuple[str, ...]]]:
