@@ -66,7 +66,6 @@ from ...effects.variables import apart_span
 from ...fitting.problem import with_values
 from ...model.assembly import Model
 from ...model.config import ModelConfig
-from . import interpret
 from .coverage import records_of, span_words, variable_spans
 from .discovered import Discovered
 from .discovery import ScreenedEquation, _key, confirm, correction_host
@@ -335,7 +334,7 @@ def _reductions(found: Discovered) -> list[tuple[str, tuple[str, ...]]]:
     """(variable, the others) for each variable of ``found``'s leading term (and of the
     terms that modulate it), where it has two or more and each has a free function in its
     equation."""
-    lead = interpret.depends_on(found.terms, found.leading)
+    lead = found.depends_on  # untested: its leading term's, and its modulations'
     if len(lead) < 2 or not all(probe_keys(found.equation, v) for v in lead):
         return []
     return [(v, tuple(u for u in lead if u != v)) for v in lead]
